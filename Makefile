@@ -1,0 +1,39 @@
+# Thin wrapper over CMake/CTest/pytest and the verification harness.
+# Start with `bash scripts/setup.sh run` (or test) on a fresh machine; after that:
+#   make build | run | test | verify [STUDY=name] | verify-full | format | docs
+PYTHON := /usr/bin/python3
+JOBS ?= 2
+export OMPI_ALLOW_RUN_AS_ROOT := 1
+export OMPI_ALLOW_RUN_AS_ROOT_CONFIRM := 1
+export OMPI_MCA_rmaps_base_oversubscribe := 1
+# The default case; the membrane issue makes it a short capsule-in-shear run.
+DEFAULT_CASE ?= cases/taylor_green
+
+.PHONY: build run test unit pytest verify verify-full format docs clean
+
+build:
+	cmake --preset release >/dev/null
+	cmake --build --preset release -j $(JOBS)
+
+run: build
+	./build/bin/efsi run $(DEFAULT_CASE) --output out/default
+	$(PYTHON) verification/plot_run.py out/default
+
+test: build
+	ctest --test-dir build --output-on-failure -j $(JOBS)
+	$(PYTHON) -m pytest -q reference/tests verification/tests
+
+verify: build
+	$(PYTHON) verification/run.py --tier quick $(STUDY)
+
+verify-full: build
+	$(PYTHON) verification/run.py --tier full $(STUDY)
+
+format:
+	git ls-files '*.cpp' '*.hpp' | xargs clang-format -i
+
+docs: build
+	./scripts/make_case_reference.sh
+
+clean:
+	rm -rf build build-debug

@@ -1,0 +1,309 @@
+#include "config/config.hpp"
+
+#include "config/reader.hpp"
+#include "core/error.hpp"
+
+#include <fmt/core.h>
+
+#include <fstream>
+#include <sstream>
+
+namespace efsi {
+
+std::string to_string(ViscousScheme s) {
+    switch (s) {
+    case ViscousScheme::Explicit: return "explicit";
+    case ViscousScheme::CrankNicolson: return "crank_nicolson";
+    case ViscousScheme::BackwardEuler: return "backward_euler";
+    }
+    return "?";
+}
+
+namespace {
+
+/// Apply one `a.b.c=value` override; the value is parsed as TOML (number, string in
+/// quotes, array, bool), falling back to a bare string.
+void apply_override(toml::table& root, const std::string& path, const std::string& value) {
+    if (path.empty()) throw InputError("--set: empty key");
+    toml::table* t = &root;
+    std::size_t start = 0;
+    for (;;) {
+        const std::size_t dot = path.find('.', start);
+        const std::string part = path.substr(start, dot - start);
+        if (part.empty()) throw InputError(fmt::format("--set {}: malformed key", path));
+        if (dot == std::string::npos) {
+            toml::table parsed;
+            try {
+                parsed = toml::parse("v = " + value);
+            } catch (const toml::parse_error&) {
+                parsed = toml::parse("v = \"" + value + "\"");
+            }
+            t->insert_or_assign(part, *parsed.get("v"));
+            return;
+        }
+        toml::node* n = t->get(part);
+        if (!n) {
+            t->insert(part, toml::table{});
+            n = t->get(part);
+        }
+        if (!n->is_table())
+            throw InputError(fmt::format("--set {}: '{}' is not a table", path, part));
+        t = n->as_table();
+        start = dot + 1;
+    }
+}
+
+LinearSolverSettings read_solver(TableReader r, real tol, int iters) {
+    LinearSolverSettings s;
+    s.method = r.string("method", "pcg_pfmg", {"pcg_pfmg", "gmres_pfmg", "pcg_smg", "pfmg"},
+                        "hypre Struct solver: Krylov method and multigrid preconditioner");
+    s.tolerance = r.number("tolerance", tol, Range::positive(), "-",
+                           "relative residual at which the solve stops");
+    s.max_iterations = r.integer("max_iterations", iters, Range::closed(1, 1e6),
+                                 "iteration cap; hitting it is reported in the diagnostics");
+    r.finish();
+    return s;
+}
+
+FaceBoundary read_face(TableReader& parent, const std::string& key) {
+    static const std::vector<std::string> types{"periodic", "wall", "free_slip"};
+    FaceBoundary f;
+    TableReader sub = parent.sub(
+        key, "boundary condition of this box face: a table {type, velocity} or a bare string");
+    const std::string type = sub.string("type", "periodic", types,
+                      "periodic, wall (no-slip, possibly moving) or free_slip");
+    const Real3 velocity = sub.vector3("velocity", Real3{0, 0, 0}, Range{}, "m/s",
+                           "wall velocity (tangential components only), for type = wall");
+    sub.finish();
+    f.type = type == "periodic" ? BoundaryType::Periodic
+             : type == "wall"   ? BoundaryType::Wall
+                                : BoundaryType::FreeSlip;
+    f.velocity = velocity;
+    return f;
+}
+
+/// Turn `x_low = "wall"` into `x_low = {type = "wall"}` so one reader handles both.
+void normalise_boundaries(toml::table& root) {
+    toml::node* b = root.get("boundary");
+    if (!b || !b->is_table()) return;
+    toml::table& t = *b->as_table();
+    std::vector<std::string> bare;
+    for (auto&& [k, v] : t)
+        if (v.is_string()) bare.emplace_back(k.str());
+    for (const auto& k : bare) {
+        toml::table face;
+        face.insert("type", *t.get(k)->value<std::string>());
+        t.insert_or_assign(k, std::move(face));
+    }
+}
+
+Config read_config(toml::table& root, const std::filesystem::path& case_dir) {
+    Config c;
+    c.case_dir = case_dir;
+    normalise_boundaries(root);
+    TableReader top(&root, "");
+
+    {
+        TableReader r = top.sub("case", "name and description of the case");
+        c.name = r.string("name", case_dir.filename().string(), {}, "case name (for logs)");
+        c.description = r.string("description", "", {}, "one line on the physics");
+        r.finish();
+    }
+    {
+        TableReader r = top.sub("grid", "the uniform Cartesian grid");
+        c.grid.cells = r.ivector3("cells", std::nullopt, Range::closed(1, 1 << 20),
+                                  "cells per direction; nz = 1 makes a 2D run");
+        c.grid.length = r.vector3("length", std::nullopt, Range::positive(), "m", "box size");
+        c.grid.origin = r.vector3("origin", Real3{0, 0, 0}, Range{}, "m", "low corner of the box");
+        r.finish();
+        c.grid.dim = c.grid.cells[2] == 1 ? 2 : 3;
+        for (int d = 0; d < c.grid.dim; ++d)
+            if (c.grid.cells[d] < 2 && !KeyCatalogue::instance().documenting)
+                throw InputError(fmt::format("grid.cells[{}] = {}: need at least 2 cells", d,
+                                             c.grid.cells[d]));
+        // Cells must be cubes (the membrane and VOF geometry assume it); allow 1e-9 slack.
+        const real h = c.grid.dx(0);
+        for (int d = 1; d < c.grid.dim; ++d)
+            if (std::abs(c.grid.dx(d) - h) > 1e-9 * h && !KeyCatalogue::instance().documenting)
+                throw InputError(fmt::format(
+                    "grid: cells must be cubes, but dx = {} and d{} = {} (length / cells)", h,
+                    "xyz"[d], c.grid.dx(d)));
+    }
+    {
+        TableReader r = top.sub("fluid", "fluid properties");
+        c.fluid.density = r.number("density", std::nullopt, Range::positive(), "kg/m^3",
+                                   "density rho (one density everywhere)");
+        c.fluid.viscosity = r.number("viscosity", std::nullopt, Range::positive(), "Pa s",
+                                     "dynamic viscosity mu_f of the fluid");
+        r.finish();
+    }
+    {
+        TableReader r = top.sub("boundary", "boundary condition per box face");
+        const char* names[3][2] = {{"x_low", "x_high"}, {"y_low", "y_high"}, {"z_low", "z_high"}};
+        for (int d = 0; d < 3; ++d)
+            for (int s = 0; s < 2; ++s)
+                c.boundaries[d][s] = read_face(r, names[d][s]);
+        r.finish();
+        for (int d = 0; d < 3; ++d) {
+            const bool p0 = c.boundaries[d][0].type == BoundaryType::Periodic;
+            const bool p1 = c.boundaries[d][1].type == BoundaryType::Periodic;
+            if (p0 != p1)
+                throw InputError(fmt::format("boundary.{} / boundary.{}: periodic must be set "
+                                             "on both faces of a direction",
+                                             names[d][0], names[d][1]));
+            for (int s = 0; s < 2; ++s)
+                if (c.boundaries[d][s].velocity[d] != 0)
+                    throw InputError(fmt::format(
+                        "boundary.{}.velocity: a wall cannot move along its normal ({}-component "
+                        "must be 0)",
+                        names[d][s], "xyz"[d]));
+        }
+        if (c.grid.dim == 2 && c.boundaries[2][0].type != BoundaryType::Periodic)
+            throw InputError("boundary.z_low/z_high: a 2D run (grid.cells[2] = 1) must be "
+                             "periodic in z");
+    }
+    {
+        TableReader r = top.sub("forcing", "uniform forcing");
+        c.body_force = r.vector3("body_force", Real3{0, 0, 0}, Range{}, "N/m^3",
+                                 "uniform force density, e.g. minus a mean pressure gradient");
+        r.finish();
+    }
+    {
+        TableReader r = top.sub("initial", "initial velocity field");
+        c.initial.type = r.string("type", "rest",
+                                  {"rest", "taylor_green", "couette", "poiseuille", "shear"},
+                                  "named initial velocity (see docs/case-reference.md)");
+        c.initial.amplitude =
+            r.number("amplitude", 1.0, Range{}, "m/s", "velocity scale of the initial field");
+        r.finish();
+    }
+    {
+        TableReader r = top.sub("time", "time stepping");
+        c.time.end_time = r.number("end_time", std::nullopt, Range::positive(), "s",
+                                   "simulated time at which the run stops");
+        c.time.max_steps =
+            r.integer("max_steps", 100000000, Range::closed(1, 2e9), "cap on the number of steps");
+        c.time.fixed_dt = r.number("dt", 0.0, Range::non_negative(), "s",
+                                   "fixed time step; 0 selects the adaptive step");
+        c.time.cfl = r.number("cfl", 0.5, Range{0, 1, true}, "-",
+                              "safety factor applied to every stability limit of the adaptive dt");
+        c.time.dt_max = r.number("dt_max", 0.0, Range::non_negative(), "s",
+                                 "upper bound on the adaptive dt; 0 = none");
+        const std::string v =
+            r.string("viscous", "crank_nicolson", {"explicit", "crank_nicolson", "backward_euler"},
+                     "viscous term: explicit, or implicit (solved with hypre)");
+        c.time.viscous = v == "explicit"         ? ViscousScheme::Explicit
+                         : v == "crank_nicolson" ? ViscousScheme::CrankNicolson
+                                                 : ViscousScheme::BackwardEuler;
+        r.finish();
+    }
+    {
+        TableReader r = top.sub("solver", "linear solvers");
+        c.pressure_solver =
+            read_solver(r.sub("pressure", "pressure Poisson solve (hypre Struct)"), 1e-10, 500);
+        c.viscous_solver =
+            read_solver(r.sub("viscous", "implicit viscous solve (hypre Struct)"), 1e-12, 200);
+        r.finish();
+    }
+    {
+        TableReader r = top.sub("output", "what is written and how often");
+        c.output.diagnostics_every = r.integer("diagnostics_every", 10, Range::closed(1, 1e9),
+                                               "steps between rows of diagnostics.csv");
+        c.output.progress_every = r.integer("progress_every", 100, Range::closed(1, 1e9),
+                                            "steps between progress lines on the terminal");
+        c.output.fields_interval = r.number("fields_interval", 0.0, Range::non_negative(), "s",
+                                            "simulated time between field snapshots; 0 = "
+                                            "initial and final state only");
+        c.output.fields = r.boolean("fields", true, "write field snapshots (HDF5 + XDMF)");
+        c.output.checkpoint_every = r.integer("checkpoint_every", 0, Range::closed(0, 1e9),
+                                              "steps between checkpoints; 0 = at the end only");
+        r.finish();
+    }
+    {
+        TableReader r = top.sub("stability", "when a run is declared unstable");
+        c.stability.max_cfl = r.number("max_cfl", 2.0, Range::positive(), "-",
+                                       "CFL number above which the run stops as unstable");
+        c.stability.max_velocity = r.number("max_velocity", 1e6, Range::positive(), "m/s",
+                                            "speed above which the run stops as a blow-up");
+        r.finish();
+    }
+    {
+        TableReader r = top.sub("parallel", "MPI decomposition");
+        c.ranks = r.ivector3("ranks", Int3{0, 0, 0}, Range::closed(0, 1e6),
+                             "MPI ranks per direction; 0 = chosen automatically");
+        r.finish();
+    }
+    top.finish();
+
+    if (!KeyCatalogue::instance().documenting) {
+        // Impossible set-ups, caught before allocation.
+        if (c.time.fixed_dt == 0 && c.time.viscous == ViscousScheme::Explicit &&
+            c.time.cfl > 0.9)
+            throw InputError("time.cfl: must be <= 0.9 with an explicit viscous term");
+        for (int d = 0; d < c.grid.dim; ++d)
+            if (c.boundaries[d][0].type == BoundaryType::Periodic &&
+                (c.grid.cells[d] & (c.grid.cells[d] - 1)) != 0 &&
+                c.pressure_solver.method != "pcg_smg")
+                throw InputError(fmt::format(
+                    "grid.cells[{}] = {}: hypre's PFMG needs a power of two along a periodic "
+                    "direction; use a power of two or solver.pressure.method = \"pcg_smg\"",
+                    d, c.grid.cells[d]));
+    }
+    std::ostringstream os;
+    os << root;
+    c.resolved_toml = os.str();
+    return c;
+}
+
+} // namespace
+
+Config parse_case(const std::string& toml_text, const std::filesystem::path& case_dir,
+                  const Overrides& overrides) {
+    toml::table root;
+    try {
+        root = toml::parse(toml_text);
+    } catch (const toml::parse_error& e) {
+        const auto& src = e.source();
+        throw InputError(fmt::format("{}:{}:{}: malformed TOML: {}",
+                                     (case_dir / "case.toml").string(), src.begin.line,
+                                     src.begin.column, e.description()));
+    }
+    for (const auto& [k, v] : overrides)
+        apply_override(root, k, v);
+    return read_config(root, case_dir);
+}
+
+Config load_case(const std::filesystem::path& case_path, const Overrides& overrides) {
+    namespace fs = std::filesystem;
+    fs::path file = case_path;
+    if (fs::is_directory(file)) file /= "case.toml";
+    if (!fs::exists(file))
+        throw InputError(fmt::format("{}: no such case (expected a folder with case.toml, or "
+                                     "a .toml file)",
+                                     case_path.string()));
+    std::ifstream in(file);
+    std::stringstream ss;
+    ss << in.rdbuf();
+    fs::path dir = fs::absolute(file).parent_path();
+    Config c = parse_case(ss.str(), dir, overrides);
+    return c;
+}
+
+std::string case_reference_markdown() {
+    auto& cat = KeyCatalogue::instance();
+    cat.documenting = true;
+    toml::table root;
+    read_config(root, "case");
+    cat.documenting = false;
+    std::string md;
+    md += "| key | type | unit | default | range | meaning |\n";
+    md += "|---|---|---|---|---|---|\n";
+    for (const auto& k : cat.keys()) {
+        if (k.type == "table") continue;
+        md += fmt::format("| `{}` | {} | {} | {} | {} | {} |\n", k.key, k.type, k.unit, k.deflt,
+                          k.range, k.meaning);
+    }
+    return md;
+}
+
+} // namespace efsi

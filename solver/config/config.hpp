@@ -1,0 +1,85 @@
+// The case configuration, parsed once into typed structs and checked before any
+// allocation. See docs/case-reference.md (generated from the readers) for every key.
+#pragma once
+
+#include "boundary/boundary.hpp"
+#include "core/types.hpp"
+#include "grid/grid.hpp"
+#include "linear/structured_solver.hpp"
+
+#include <filesystem>
+#include <string>
+#include <utility>
+#include <vector>
+
+namespace efsi {
+
+enum class ViscousScheme { Explicit, CrankNicolson, BackwardEuler };
+
+struct FluidConfig {
+    real density = 1;   ///< rho [kg/m^3]
+    real viscosity = 1; ///< mu_f [Pa s]
+};
+
+struct TimeConfig {
+    real end_time = 1;          ///< [s]
+    int max_steps = 1000000;    ///< hard cap on steps
+    real fixed_dt = 0;          ///< [s]; 0 selects the adaptive step
+    real cfl = 0.5;             ///< safety factor on every stability limit
+    real dt_max = 0;            ///< [s]; 0 = no cap
+    ViscousScheme viscous = ViscousScheme::CrankNicolson;
+};
+
+struct InitialConfig {
+    std::string type = "rest"; ///< rest | taylor_green | couette | poiseuille | shear
+    real amplitude = 1;        ///< velocity scale [m/s]
+};
+
+struct OutputConfig {
+    int diagnostics_every = 10; ///< steps between diagnostics rows
+    int progress_every = 100;   ///< steps between progress lines (rank 0)
+    real fields_interval = 0;   ///< [s] between field snapshots; 0 = only the final state
+    int checkpoint_every = 0;   ///< steps between checkpoints; 0 = only at the end
+    bool fields = true;         ///< write field snapshots at all
+};
+
+struct StabilityConfig {
+    real max_cfl = 2.0;        ///< a run whose CFL exceeds this is declared unstable
+    real max_velocity = 1e6;   ///< |u| above this [m/s] is declared a blow-up
+};
+
+struct Config {
+    std::string name;
+    std::string description;
+    std::filesystem::path case_dir;
+    GlobalGrid grid;
+    FluidConfig fluid;
+    BoxBoundaries boundaries;
+    Real3 body_force{0, 0, 0}; ///< [N/m^3] uniform force density (= minus the mean pressure gradient)
+    InitialConfig initial;
+    TimeConfig time;
+    LinearSolverSettings pressure_solver;
+    LinearSolverSettings viscous_solver;
+    OutputConfig output;
+    StabilityConfig stability;
+    Int3 ranks{0, 0, 0};
+    std::string resolved_toml; ///< the configuration with every default filled in
+};
+
+/// `--set section.key=value` overrides, applied to the TOML before it is read.
+using Overrides = std::vector<std::pair<std::string, std::string>>;
+
+/// Parse and validate a case (a folder holding case.toml, or a .toml file).
+/// Throws InputError naming the offending key.
+Config load_case(const std::filesystem::path& case_path, const Overrides& overrides = {});
+
+/// Parse from TOML text (tests and `efsi check`).
+Config parse_case(const std::string& toml_text, const std::filesystem::path& case_dir,
+                  const Overrides& overrides = {});
+
+/// Markdown table of every case key (docs/case-reference.md).
+std::string case_reference_markdown();
+
+std::string to_string(ViscousScheme s);
+
+} // namespace efsi

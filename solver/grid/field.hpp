@@ -1,0 +1,94 @@
+// A field owns its values on a rank's block plus halo cells and knows its location.
+//
+// Indices are signed: (0,0,0) is the first owned point, -1 is the first halo layer.
+// In 2D (dim == 2) there is no z halo, so k is always 0 and nothing is stored twice.
+#pragma once
+
+#include "core/types.hpp"
+#include "grid/grid.hpp"
+
+#include <cassert>
+#include <limits>
+#include <string>
+#include <vector>
+
+namespace efsi {
+
+class Field {
+public:
+    Field() = default;
+    Field(std::string name, Location loc, const LocalBlock& block, int dim, int halo = 2)
+        : name_(std::move(name)), loc_(loc), cells_(block.cells) {
+        for (int d = 0; d < 3; ++d) {
+            halo_[d] = (d < dim) ? halo : 0;
+            ext_[d] = cells_[d] + 2 * halo_[d];
+        }
+        stride_ = {1, std::size_t(ext_[0]), std::size_t(ext_[0]) * std::size_t(ext_[1])};
+#ifdef EFSI_NAN_FILL
+        const real init = std::numeric_limits<real>::quiet_NaN();
+#else
+        const real init = 0;
+#endif
+        data_.assign(std::size_t(ext_[0]) * ext_[1] * ext_[2], init);
+    }
+
+    real& operator()(int i, int j, int k) { return data_[index(i, j, k)]; }
+    real operator()(int i, int j, int k) const { return data_[index(i, j, k)]; }
+    real& operator()(const Int3& p) { return data_[index(p[0], p[1], p[2])]; }
+    real operator()(const Int3& p) const { return data_[index(p[0], p[1], p[2])]; }
+
+    std::size_t index(int i, int j, int k) const {
+        assert(i >= -halo_[0] && i < cells_[0] + halo_[0]);
+        assert(j >= -halo_[1] && j < cells_[1] + halo_[1]);
+        assert(k >= -halo_[2] && k < cells_[2] + halo_[2]);
+        return std::size_t(i + halo_[0]) + std::size_t(j + halo_[1]) * stride_[1] +
+               std::size_t(k + halo_[2]) * stride_[2];
+    }
+
+    const std::string& name() const { return name_; }
+    Location location() const { return loc_; }
+    const Int3& cells() const { return cells_; }
+    const Int3& halo() const { return halo_; }
+    const Int3& extent() const { return ext_; }
+    std::vector<real>& data() { return data_; }
+    const std::vector<real>& data() const { return data_; }
+
+    void fill(real v) { data_.assign(data_.size(), v); }
+
+private:
+    std::string name_;
+    Location loc_ = Location::Cell;
+    Int3 cells_{0, 0, 0};
+    Int3 halo_{0, 0, 0};
+    Int3 ext_{0, 0, 0};
+    std::array<std::size_t, 3> stride_{0, 0, 0};
+    std::vector<real> data_;
+};
+
+/// Staggered velocity: component d lives on the faces normal to d. Only `dim`
+/// components exist, so a 2D run carries no w.
+struct VelocityField {
+    std::array<Field, 3> comp;
+    int dim = 3;
+
+    VelocityField() = default;
+    VelocityField(const std::string& name, const LocalBlock& block, int dim_, int halo = 2)
+        : dim(dim_) {
+        const char* axes = "uvw";
+        for (int d = 0; d < dim; ++d)
+            comp[d] = Field(name + "_" + axes[d], face_location(d), block, dim, halo);
+    }
+    Field& operator[](int d) { return comp[d]; }
+    const Field& operator[](int d) const { return comp[d]; }
+};
+
+/// Loop over the owned points of a block: f(i,j,k).
+template <class F>
+inline void for_each_cell(const Int3& n, F&& f) {
+    for (int k = 0; k < n[2]; ++k)
+        for (int j = 0; j < n[1]; ++j)
+            for (int i = 0; i < n[0]; ++i)
+                f(i, j, k);
+}
+
+} // namespace efsi

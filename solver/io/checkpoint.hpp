@@ -1,0 +1,22 @@
+// Checkpoints: the complete state needed to continue a run bit for bit. Written to a
+// temporary file that is renamed over the previous checkpoint only once it is complete,
+// so a crash never leaves a corrupt last checkpoint.
+#pragma once
+
+#include "parallel/decomposition.hpp"
+#include "time/flow_state.hpp"
+
+#include <filesystem>
+
+namespace efsi {
+
+struct RunClock {
+    real next_fields_time = 0; ///< simulated time of the next snapshot
+};
+
+void write_checkpoint(const std::filesystem::path& file, const Decomposition& dec,
+                      const FlowState& s, const RunClock& clock);
+void read_checkpoint(const std::filesystem::path& file, const Decomposition& dec, FlowState& s,
+                     RunClock& clock);
+
+} // namespace efsi

@@ -1,0 +1,134 @@
+#include "io/field_output.hpp"
+
+#include "io/hdf5_file.hpp"
+#include "operators/flow_operators.hpp"
+
+#include <fmt/core.h>
+#include <fmt/os.h>
+
+#include <fstream>
+
+namespace efsi {
+
+namespace fs = std::filesystem;
+
+FieldOutput::FieldOutput(const fs::path& output_dir, const Decomposition& dec)
+    : dir_(output_dir / "fields"), dec_(dec) {
+    if (dec.rank() == 0) fs::create_directories(dir_);
+    dec.barrier();
+    // Keep the snapshots of an earlier part of this run (restart) in the series.
+    std::ifstream in(dir_ / "index.txt");
+    Entry e;
+    while (in >> e.step >> e.time >> e.file)
+        index_.push_back(e);
+    if (!fs::exists(dir_ / "mesh.h5")) write_mesh();
+}
+
+void FieldOutput::write_mesh() {
+    const GlobalGrid& g = dec_.grid();
+    const LocalBlock& b = dec_.block();
+    const int dim = g.dim;
+    // Nodes: this rank writes its own and, at the high end of the box, the closing layer.
+    Int3 nodes{1, 1, 1}, noff = b.offset, ncount{1, 1, 1};
+    for (int d = 0; d < dim; ++d) {
+        nodes[d] = g.cells[d] + 1;
+        ncount[d] = b.cells[d] + (dec_.coords()[d] == dec_.ranks_per_dim()[d] - 1 ? 1 : 0);
+    }
+    std::vector<double> xyz;
+    for (int k = 0; k < ncount[2]; ++k)
+        for (int j = 0; j < ncount[1]; ++j)
+            for (int i = 0; i < ncount[0]; ++i) {
+                const Int3 idx{i, j, k};
+                for (int d = 0; d < 3; ++d)
+                    xyz.push_back(d < dim ? g.origin[d] + (b.offset[d] + idx[d]) * g.dx(d)
+                                          : g.origin[d] + 0.5 * g.dx(d));
+            }
+    std::vector<std::int64_t> topo;
+    auto node = [&](int i, int j, int k) {
+        return std::int64_t(i) + std::int64_t(nodes[0]) * (j + std::int64_t(nodes[1]) * k);
+    };
+    for_each_cell(b.cells, [&](int i, int j, int k) {
+        const int I = b.offset[0] + i, J = b.offset[1] + j, K = b.offset[2] + k;
+        // VTK / XDMF ordering: counter-clockwise bottom face, then the top face.
+        topo.insert(topo.end(), {node(I, J, K), node(I + 1, J, K), node(I + 1, J + 1, K),
+                                 node(I, J + 1, K)});
+        if (dim == 3)
+            topo.insert(topo.end(), {node(I, J, K + 1), node(I + 1, J, K + 1),
+                                     node(I + 1, J + 1, K + 1), node(I, J + 1, K + 1)});
+    });
+    Hdf5File f(dir_ / "mesh.h5", Hdf5File::Mode::Create, dec_);
+    f.write_flat("geometry", nodes, noff, ncount, 3, xyz);
+    f.write_flat("topology", g.cells, b.offset, b.cells, dim == 3 ? 8 : 4, topo);
+}
+
+void FieldOutput::write(const FlowState& s) {
+    const GlobalGrid& g = dec_.grid();
+    const LocalBlock& b = dec_.block();
+    const std::string name = fmt::format("fields_{:08d}.h5", s.step);
+    {
+        Hdf5File f(dir_ / name, Hdf5File::Mode::Create, dec_);
+        std::vector<double> p, vel;
+        for_each_cell(b.cells, [&](int i, int j, int k) {
+            p.push_back(s.p(i, j, k));
+            for (int c = 0; c < 3; ++c)
+                vel.push_back(c < s.u.dim ? cell_centre_velocity(s.u, c, {i, j, k}) : 0.0);
+        });
+        f.write_flat("pressure", g.cells, b.offset, b.cells, 1, p);
+        f.write_flat("velocity", g.cells, b.offset, b.cells, 3, vel);
+        const char* names[3] = {"faces_u", "faces_v", "faces_w"};
+        for (int c = 0; c < s.u.dim; ++c)
+            f.write_block(names[c], s.u[c]);
+        f.write_attribute("time", s.time);
+        f.write_attribute("step", double(s.step));
+    }
+    index_.push_back({s.step, s.time, name});
+    if (dec_.rank() == 0) {
+        std::ofstream idx(dir_ / "index.txt", std::ios::app);
+        idx << fmt::format("{} {:.17g} {}\n", s.step, s.time, name);
+        write_xdmf();
+    }
+}
+
+void FieldOutput::write_xdmf() const {
+    const GlobalGrid& g = dec_.grid();
+    const long long ncells = g.total_cells();
+    long long npoints = 1;
+    for (int d = 0; d < g.dim; ++d)
+        npoints *= g.cells[d] + 1;
+    const int per = g.dim == 3 ? 8 : 4;
+    const char* topo = g.dim == 3 ? "Hexahedron" : "Quadrilateral";
+    const fs::path tmp = dir_ / "fields.xdmf.tmp";
+    {
+        auto out = fmt::output_file(tmp.string());
+        out.print("<?xml version=\"1.0\"?>\n<Xdmf Version=\"3.0\" "
+                  "xmlns:xi=\"https://www.w3.org/2001/XInclude\">\n<Domain>\n");
+        out.print("<Grid Name=\"mesh\" GridType=\"Uniform\">\n"
+                  "  <Topology TopologyType=\"{0}\" NumberOfElements=\"{1}\" "
+                  "NodesPerElement=\"{2}\">\n"
+                  "    <DataItem Dimensions=\"{1} {2}\" NumberType=\"Int\" Precision=\"8\" "
+                  "Format=\"HDF\">mesh.h5:/topology</DataItem>\n  </Topology>\n"
+                  "  <Geometry GeometryType=\"XYZ\">\n"
+                  "    <DataItem Dimensions=\"{3} 3\" NumberType=\"Float\" Precision=\"8\" "
+                  "Format=\"HDF\">mesh.h5:/geometry</DataItem>\n  </Geometry>\n</Grid>\n",
+                  topo, ncells, per, npoints);
+        out.print("<Grid Name=\"fields\" GridType=\"Collection\" CollectionType=\"Temporal\">\n");
+        for (const auto& e : index_) {
+            out.print("  <Grid Name=\"step_{}\" GridType=\"Uniform\">\n"
+                      "    <xi:include xpointer=\"xpointer(/Xdmf/Domain/Grid[@Name='mesh']/"
+                      "*[self::Topology or self::Geometry])\"/>\n"
+                      "    <Time Value=\"{:.17g}\"/>\n",
+                      e.step, e.time);
+            out.print("    <Attribute Name=\"pressure\" AttributeType=\"Scalar\" Center=\"Cell\">\n"
+                      "      <DataItem Dimensions=\"{0}\" NumberType=\"Float\" Precision=\"8\" "
+                      "Format=\"HDF\">{1}:/pressure</DataItem>\n    </Attribute>\n"
+                      "    <Attribute Name=\"velocity\" AttributeType=\"Vector\" Center=\"Cell\">\n"
+                      "      <DataItem Dimensions=\"{0} 3\" NumberType=\"Float\" Precision=\"8\" "
+                      "Format=\"HDF\">{1}:/velocity</DataItem>\n    </Attribute>\n  </Grid>\n",
+                      ncells, e.file);
+        }
+        out.print("</Grid>\n</Domain>\n</Xdmf>\n");
+    }
+    fs::rename(tmp, dir_ / "fields.xdmf");
+}
+
+} // namespace efsi

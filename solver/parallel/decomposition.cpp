@@ -1,0 +1,151 @@
+#include "parallel/decomposition.hpp"
+
+#include "core/error.hpp"
+
+#include <fmt/core.h>
+
+#include <iostream>
+
+namespace efsi {
+
+Int3 Decomposition::choose_ranks(int ranks, const GlobalGrid& grid, Int3 requested) {
+    Int3 dims = requested;
+    if (grid.dim == 2) {
+        if (dims[2] > 1)
+            throw InputError("parallel.ranks: a 2D run cannot be split in z (ranks[2] must be 1)");
+        dims[2] = 1;
+    }
+    int fixed = 1;
+    for (int d = 0; d < 3; ++d)
+        if (dims[d] > 0) fixed *= dims[d];
+    if (ranks % fixed != 0)
+        throw InputError(fmt::format("parallel.ranks: {}x{}x{} does not divide {} MPI ranks",
+                                     dims[0], dims[1], dims[2], ranks));
+    // MPI_Dims_create balances the remaining factors; then check divisibility and, if it
+    // fails, try every factorisation before giving up so any workable count is accepted.
+    Int3 trial = dims;
+    MPI_Dims_create(ranks, 3, trial.data());
+    auto divides = [&](const Int3& t) {
+        for (int d = 0; d < 3; ++d)
+            if (grid.cells[d] % t[d] != 0 || (t[d] > 1 && grid.cells[d] / t[d] < 2))
+                return false; // each block needs at least two cells (the halo width)
+        return true;
+    };
+    if (divides(trial)) return trial;
+    for (int a = 1; a <= ranks; ++a) {
+        if (ranks % a || (dims[0] > 0 && dims[0] != a)) continue;
+        for (int b = 1; b <= ranks / a; ++b) {
+            if ((ranks / a) % b || (dims[1] > 0 && dims[1] != b)) continue;
+            const int c = ranks / a / b;
+            if (dims[2] > 0 && dims[2] != c) continue;
+            if (grid.dim == 2 && c != 1) continue;
+            if (divides({a, b, c})) return {a, b, c};
+        }
+    }
+    throw InputError(fmt::format(
+        "grid.cells: {}x{}x{} cells cannot be divided among {} MPI ranks (every direction's "
+        "cell count must be a multiple of the ranks along it); choose a rank count whose "
+        "factors divide the grid",
+        grid.cells[0], grid.cells[1], grid.cells[2], ranks));
+}
+
+Decomposition::Decomposition(MPI_Comm world, const GlobalGrid& grid, Bool3 periodic,
+                             Int3 ranks_per_dim)
+    : grid_(grid), periodic_(periodic) {
+    int world_size = 1;
+    MPI_Comm_size(world, &world_size);
+    dims_ = choose_ranks(world_size, grid, ranks_per_dim);
+    // MPI dims are ordered (x, y, z) here; reorder=0 keeps ranks predictable in tests.
+    std::array<int, 3> per{int(periodic[0]), int(periodic[1]), int(periodic[2])};
+    MPI_Cart_create(world, 3, dims_.data(), per.data(), 0, &cart_);
+    MPI_Comm_rank(cart_, &rank_);
+    MPI_Comm_size(cart_, &size_);
+    MPI_Cart_coords(cart_, rank_, 3, coords_.data());
+    for (int d = 0; d < 3; ++d) {
+        MPI_Cart_shift(cart_, d, 1, &neighbour_[d][0], &neighbour_[d][1]);
+        block_.cells[d] = grid.cells[d] / dims_[d];
+        block_.offset[d] = coords_[d] * block_.cells[d];
+    }
+}
+
+Decomposition::~Decomposition() {
+    if (cart_ != MPI_COMM_NULL) MPI_Comm_free(&cart_);
+}
+
+void Decomposition::exchange(Field& f, int d) const {
+    const int g = f.halo()[d];
+    if (g == 0) return;
+    const Int3 n = f.cells();
+    const Int3 h = f.halo();
+    // The slab spans the full extent (halos included) of the other directions, so that
+    // exchanging x, then y, then z also fills edge and corner halos.
+    Int3 lo{-h[0], -h[1], -h[2]}, hi{n[0] + h[0], n[1] + h[1], n[2] + h[2]};
+    lo[d] = 0;
+    hi[d] = g;
+    const std::size_t count =
+        std::size_t(hi[0] - lo[0]) * (hi[1] - lo[1]) * (hi[2] - lo[2]);
+    send_.resize(count);
+    recv_.resize(count);
+
+    auto pack = [&](int start) {
+        std::size_t c = 0;
+        for (int k = lo[2]; k < hi[2]; ++k)
+            for (int j = lo[1]; j < hi[1]; ++j)
+                for (int i = lo[0]; i < hi[0]; ++i) {
+                    Int3 p{i, j, k};
+                    p[d] += start;
+                    send_[c++] = f(p);
+                }
+    };
+    auto unpack = [&](int start) {
+        std::size_t c = 0;
+        for (int k = lo[2]; k < hi[2]; ++k)
+            for (int j = lo[1]; j < hi[1]; ++j)
+                for (int i = lo[0]; i < hi[0]; ++i) {
+                    Int3 p{i, j, k};
+                    p[d] += start;
+                    f(p) = recv_[c++];
+                }
+    };
+    const int low = neighbour_[d][0], high = neighbour_[d][1];
+    // Send my first g layers down, receive my high halo from above.
+    pack(0);
+    MPI_Sendrecv(send_.data(), int(count), mpi_real(), low, 10 + d, recv_.data(), int(count),
+                 mpi_real(), high, 10 + d, cart_, MPI_STATUS_IGNORE);
+    if (high != MPI_PROC_NULL) unpack(n[d]);
+    // Send my last g layers up, receive my low halo from below.
+    pack(n[d] - g);
+    MPI_Sendrecv(send_.data(), int(count), mpi_real(), high, 20 + d, recv_.data(), int(count),
+                 mpi_real(), low, 20 + d, cart_, MPI_STATUS_IGNORE);
+    if (low != MPI_PROC_NULL) unpack(-g);
+}
+
+real Decomposition::sum(real x) const {
+    real r = 0;
+    MPI_Allreduce(&x, &r, 1, mpi_real(), MPI_SUM, cart_);
+    return r;
+}
+real Decomposition::max(real x) const {
+    real r = 0;
+    MPI_Allreduce(&x, &r, 1, mpi_real(), MPI_MAX, cart_);
+    return r;
+}
+real Decomposition::min(real x) const {
+    real r = 0;
+    MPI_Allreduce(&x, &r, 1, mpi_real(), MPI_MIN, cart_);
+    return r;
+}
+std::int64_t Decomposition::sum(std::int64_t x) const {
+    std::int64_t r = 0;
+    MPI_Allreduce(&x, &r, 1, MPI_INT64_T, MPI_SUM, cart_);
+    return r;
+}
+void Decomposition::barrier() const { MPI_Barrier(cart_); }
+
+void Decomposition::abort(const std::string& message) const {
+    std::cerr << message << std::endl;
+    MPI_Abort(cart_, 1);
+    std::abort();
+}
+
+} // namespace efsi

@@ -1,0 +1,75 @@
+// MPI Cartesian domain decomposition: who owns which block, who the neighbours are,
+// halo exchange and global reductions. The only MPI the physics ever sees is through
+// this class's methods (sum, max, exchange), never MPI calls of its own.
+#pragma once
+
+#include "core/types.hpp"
+#include "grid/field.hpp"
+#include "grid/grid.hpp"
+
+#include <mpi.h>
+
+#include <string>
+#include <vector>
+
+namespace efsi {
+
+/// MPI datatype of `real`.
+inline MPI_Datatype mpi_real() { return MPI_DOUBLE; }
+
+class Decomposition {
+public:
+    /// `ranks_per_dim` entries of 0 are chosen by MPI_Dims_create. Throws InputError when
+    /// the grid cannot be divided among the ranks (before any field is allocated).
+    Decomposition(MPI_Comm world, const GlobalGrid& grid, Bool3 periodic,
+                  Int3 ranks_per_dim = {0, 0, 0});
+    ~Decomposition();
+    Decomposition(const Decomposition&) = delete;
+    Decomposition& operator=(const Decomposition&) = delete;
+
+    /// Check that `ranks` can split `grid` (the same rule the constructor applies);
+    /// returns the per-direction rank counts or throws InputError.
+    static Int3 choose_ranks(int ranks, const GlobalGrid& grid, Int3 requested);
+
+    const GlobalGrid& grid() const { return grid_; }
+    const LocalBlock& block() const { return block_; }
+    int dim() const { return grid_.dim; }
+    int rank() const { return rank_; }
+    int size() const { return size_; }
+    const Int3& ranks_per_dim() const { return dims_; }
+    const Int3& coords() const { return coords_; }
+    const Bool3& periodic() const { return periodic_; }
+    MPI_Comm comm() const { return cart_; }
+
+    /// True when this rank's block touches the low (side 0) or high (side 1) box face
+    /// of direction d.
+    bool at_boundary(int d, int side) const {
+        return side == 0 ? coords_[d] == 0 : coords_[d] == dims_[d] - 1;
+    }
+
+    /// Fill the halo layers of `f` in direction d from the neighbouring ranks (periodic
+    /// wrap included). Physical-boundary halos are left for the boundary conditions.
+    void exchange(Field& f, int d) const;
+
+    real sum(real x) const;
+    real max(real x) const;
+    real min(real x) const;
+    std::int64_t sum(std::int64_t x) const;
+    void barrier() const;
+    /// Abort every rank with a message (used when one rank finds a fatal error).
+    [[noreturn]] void abort(const std::string& message) const;
+
+private:
+    GlobalGrid grid_;
+    LocalBlock block_;
+    Bool3 periodic_{};
+    Int3 dims_{1, 1, 1};
+    Int3 coords_{0, 0, 0};
+    std::array<std::array<int, 2>, 3> neighbour_{};
+    int rank_ = 0;
+    int size_ = 1;
+    MPI_Comm cart_ = MPI_COMM_NULL;
+    mutable std::vector<real> send_, recv_;
+};
+
+} // namespace efsi

@@ -1,0 +1,200 @@
+#include "simulation/simulation.hpp"
+
+#include "core/error.hpp"
+#include "flow/initial_conditions.hpp"
+#include "io/field_output.hpp"
+#include "time/time_step_control.hpp"
+
+#include <fmt/core.h>
+#include <nlohmann/json.hpp>
+
+#include <chrono>
+#include <cmath>
+#include <fstream>
+#include <iostream>
+
+namespace efsi {
+
+namespace fs = std::filesystem;
+
+Simulation::Simulation(const Config& config, const RunOptions& options, MPI_Comm world)
+    : cfg_(config), opt_(options) {
+    // The decomposition checks the rank count against the grid before anything is allocated.
+    dec_ = std::make_unique<Decomposition>(world, cfg_.grid, periodic_directions(cfg_.boundaries),
+                                           cfg_.ranks);
+    halos_ = std::make_unique<HaloFiller>(*dec_, cfg_.boundaries);
+    state_ = std::make_unique<FlowState>(dec_->block(), dec_->dim());
+    set_initial_condition(cfg_, *dec_, *state_);
+    if (!opt_.restart_file.empty()) read_checkpoint(opt_.restart_file, *dec_, *state_, clock_);
+    halos_->fill(state_->p);
+    halos_->fill(state_->mu);
+    halos_->fill(state_->u);
+    stepper_ = std::make_unique<SmacStepper>(cfg_, *dec_, *halos_);
+
+    if (dec_->rank() == 0) {
+        fs::create_directories(opt_.output_dir);
+        std::ofstream(opt_.output_dir / "case.toml") << cfg_.resolved_toml << "\n";
+        if (opt_.restart_file.empty())
+            std::ofstream(opt_.output_dir / "diagnostics.csv") << Diagnostics::csv_header() << "\n";
+    }
+    dec_->barrier();
+    if (cfg_.output.fields) fields_ = std::make_unique<FieldOutput>(opt_.output_dir, *dec_);
+}
+
+Simulation::~Simulation() = default;
+
+void Simulation::log(const std::string& line) const {
+    if (dec_->rank() == 0 && !opt_.quiet) std::cout << line << std::endl;
+}
+
+void Simulation::check_stability(const TimeStepChoice& choice) {
+    const FlowState& s = *state_;
+    std::string why;
+    if (!std::isfinite(choice.max_speed))
+        why = "the velocity is no longer finite";
+    else if (choice.max_speed > cfg_.stability.max_velocity)
+        why = fmt::format("|v| = {:.3e} m/s exceeds stability.max_velocity = {:.3e}",
+                          choice.max_speed, cfg_.stability.max_velocity);
+    else if (choice.cfl > cfg_.stability.max_cfl)
+        why = fmt::format("CFL = {:.3f} exceeds stability.max_cfl = {:.3f}", choice.cfl,
+                          cfg_.stability.max_cfl);
+    else if (choice.dt < 1e-14 * cfg_.time.end_time)
+        why = fmt::format("the time step collapsed to {:.3e} s", choice.dt);
+    if (why.empty()) return;
+    const std::string where = locate_worst_velocity(*dec_, s);
+    throw RunError(fmt::format("UNSTABLE at step {}, t = {:.6e} s: {}; {}. The last good "
+                               "checkpoint (if any) is kept in {}",
+                               s.step, s.time, why, where,
+                               (opt_.output_dir / "checkpoint.h5").string()));
+}
+
+void Simulation::write_outputs_if_due(bool final_step) {
+    FlowState& s = *state_;
+    const bool diag_due = s.step % cfg_.output.diagnostics_every == 0 || final_step;
+    if (diag_due) {
+        timers_.time("diagnostics", [&] {
+            halos_->fill(s.u);
+            measure_flow(*dec_, s, cfg_.fluid.density, last_);
+            last_.step = s.step;
+            last_.time = s.time;
+            if (dec_->rank() == 0)
+                std::ofstream(opt_.output_dir / "diagnostics.csv", std::ios::app)
+                    << last_.csv_row() << "\n";
+        });
+    }
+    if (fields_) {
+        const real interval = cfg_.output.fields_interval;
+        const bool due = final_step || (interval > 0 && s.time >= clock_.next_fields_time - 1e-12 * interval);
+        if (due || (s.step == 0)) {
+            timers_.time("output", [&] { fields_->write(s); });
+            if (interval > 0)
+                while (clock_.next_fields_time <= s.time + 1e-12 * interval)
+                    clock_.next_fields_time += interval;
+        }
+    }
+    const int every = cfg_.output.checkpoint_every;
+    if (final_step || (every > 0 && s.step % every == 0 && s.step > 0))
+        timers_.time("checkpoint", [&] {
+            write_checkpoint(opt_.output_dir / "checkpoint.h5", *dec_, s, clock_);
+        });
+}
+
+int Simulation::run() {
+    FlowState& s = *state_;
+    const auto t0 = std::chrono::steady_clock::now();
+    log(fmt::format("efsi: case '{}' on {} rank(s) ({}x{}x{}), grid {}x{}x{} ({}D), dx = {:.4g} m",
+                    cfg_.name, dec_->size(), dec_->ranks_per_dim()[0], dec_->ranks_per_dim()[1],
+                    dec_->ranks_per_dim()[2], cfg_.grid.cells[0], cfg_.grid.cells[1],
+                    cfg_.grid.cells[2], cfg_.grid.dim, cfg_.grid.dx(0)));
+    if (s.step == 0) write_outputs_if_due(false);
+    std::string status = "completed";
+    std::string message;
+    try {
+        while (s.time < cfg_.time.end_time * (1 - 1e-12) && s.step < cfg_.time.max_steps) {
+            const TimeStepChoice choice = choose_time_step(cfg_, *dec_, s);
+            check_stability(choice);
+            const StepReport r = stepper_->step(s, choice.dt, timers_);
+            ++steps_this_run_;
+            last_.dt = choice.dt;
+            last_.cfl = choice.cfl;
+            last_.pressure_iterations = r.pressure.iterations;
+            last_.pressure_residual = r.pressure.relative_residual;
+            last_.viscous_iterations = r.viscous.iterations;
+            if (!r.pressure.converged)
+                log(fmt::format("warning: step {}: pressure solve stopped at {} iterations, "
+                                "relative residual {:.2e}",
+                                s.step, r.pressure.iterations, r.pressure.relative_residual));
+            const bool final_step = !(s.time < cfg_.time.end_time * (1 - 1e-12)) ||
+                                    s.step >= cfg_.time.max_steps;
+            write_outputs_if_due(final_step);
+            if (s.step % cfg_.output.progress_every == 0 || final_step) {
+                const double wall =
+                    std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
+                const double frac = (s.time) / cfg_.time.end_time;
+                const double eta = steps_this_run_ > 0 && frac > 0
+                                       ? wall * (1 - frac) / std::max(1e-12, frac - 0.0)
+                                       : 0.0;
+                log(fmt::format("step {:7d}  t = {:.4e} s ({:5.1f}%)  dt = {:.3e} [{}]  "
+                                "div = {:.1e}  KE = {:.4e}  p-its {:3d}  ETA {:.0f} s",
+                                s.step, s.time, 100 * frac, choice.dt, choice.limited_by,
+                                last_.max_divergence, last_.kinetic_energy,
+                                r.pressure.iterations, eta));
+            }
+        }
+        check_stability(choose_time_step(cfg_, *dec_, s));
+    } catch (const RunError& e) {
+        status = "unstable";
+        message = e.what();
+    }
+    const double wall =
+        std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
+    write_summary(wall, status, message);
+    if (status != "completed") {
+        if (dec_->rank() == 0) std::cerr << "efsi: " << message << std::endl;
+        return 3;
+    }
+    log(fmt::format("done: {} steps in {:.2f} s, {:.3e} cell updates/s; output in {}",
+                    steps_this_run_, wall,
+                    double(cfg_.grid.total_cells()) * steps_this_run_ / std::max(wall, 1e-9),
+                    opt_.output_dir.string()));
+    return 0;
+}
+
+void Simulation::write_summary(double wall_seconds, const std::string& status,
+                               const std::string& message) const {
+    if (dec_->rank() != 0) return;
+    nlohmann::json j;
+    j["case"] = cfg_.name;
+    j["status"] = status;
+    j["message"] = message;
+    j["ranks"] = dec_->size();
+    j["ranks_per_dim"] = dec_->ranks_per_dim();
+    j["cells"] = cfg_.grid.total_cells();
+    j["grid"] = cfg_.grid.cells;
+    j["dim"] = cfg_.grid.dim;
+    j["steps"] = steps_this_run_;
+    j["final_step"] = state_->step;
+    j["time"] = state_->time;
+    j["wall_seconds"] = wall_seconds;
+    j["cell_updates_per_second"] =
+        double(cfg_.grid.total_cells()) * steps_this_run_ / std::max(wall_seconds, 1e-9);
+    nlohmann::json stages;
+    for (const auto& [k, v] : timers_.seconds())
+        stages[k] = v;
+    j["stages"] = stages;
+    const Diagnostics& d = last_;
+    j["final"] = {{"step", d.step},
+                  {"time", d.time},
+                  {"dt", d.dt},
+                  {"max_divergence", d.max_divergence},
+                  {"kinetic_energy", d.kinetic_energy},
+                  {"max_speed", d.max_speed},
+                  {"cfl", d.cfl},
+                  {"pressure_iterations", d.pressure_iterations},
+                  {"pressure_residual", d.pressure_residual},
+                  {"viscous_iterations", d.viscous_iterations}};
+    j["restarted_from"] = opt_.restart_file.string();
+    std::ofstream(opt_.output_dir / "summary.json") << j.dump(2) << "\n";
+}
+
+} // namespace efsi

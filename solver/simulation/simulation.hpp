@@ -1,0 +1,57 @@
+// A run: builds the grid, decomposition, fields and stepper from a Config, then steps
+// to the end time writing diagnostics, snapshots, checkpoints and the summary.
+#pragma once
+
+#include "boundary/boundary.hpp"
+#include "config/config.hpp"
+#include "io/checkpoint.hpp"
+#include "parallel/decomposition.hpp"
+#include "simulation/diagnostics.hpp"
+#include "time/flow_state.hpp"
+#include "time/smac.hpp"
+#include "time/stage_timers.hpp"
+#include "time/time_step_control.hpp"
+
+#include <filesystem>
+#include <memory>
+
+namespace efsi {
+
+struct RunOptions {
+    std::filesystem::path output_dir;
+    std::filesystem::path restart_file; ///< empty: start from the initial condition
+    bool quiet = false;
+};
+
+class Simulation {
+public:
+    Simulation(const Config& config, const RunOptions& options, MPI_Comm world);
+    ~Simulation();
+    /// Step to the end. Returns 0 on success, 3 when the run went unstable (the message
+    /// is printed and stored in summary.json, the last good checkpoint is kept).
+    int run();
+
+    const FlowState& state() const { return *state_; }
+    const Decomposition& decomposition() const { return *dec_; }
+
+private:
+    void write_outputs_if_due(bool final_step);
+    void check_stability(const TimeStepChoice& choice);
+    void write_summary(double wall_seconds, const std::string& status,
+                       const std::string& message) const;
+    void log(const std::string& line) const;
+
+    Config cfg_;
+    RunOptions opt_;
+    std::unique_ptr<Decomposition> dec_;
+    std::unique_ptr<HaloFiller> halos_;
+    std::unique_ptr<FlowState> state_;
+    std::unique_ptr<SmacStepper> stepper_;
+    std::unique_ptr<class FieldOutput> fields_;
+    StageTimers timers_;
+    RunClock clock_;
+    Diagnostics last_;
+    long steps_this_run_ = 0;
+};
+
+} // namespace efsi

@@ -1,0 +1,199 @@
+#include "time/smac.hpp"
+
+#include "operators/flow_operators.hpp"
+
+#include <algorithm>
+
+namespace efsi {
+
+namespace {
+
+bool on_box_face(const Decomposition& dec, const BoxBoundaries& bc, int e, int side,
+                 const Int3& p) {
+    return bc[e][side].type != BoundaryType::Periodic && dec.at_boundary(e, side) &&
+           p[e] == (side == 0 ? 0 : dec.block().cells[e] - 1);
+}
+
+real mean_over_block(const Decomposition& dec, const Field& f) {
+    real s = 0;
+    for_each_cell(dec.block().cells, [&](int i, int j, int k) { s += f(i, j, k); });
+    return dec.sum(s) / real(dec.grid().total_cells());
+}
+
+} // namespace
+
+SmacStepper::SmacStepper(const Config& config, const Decomposition& dec, const HaloFiller& halos)
+    : cfg_(config), dec_(dec), halos_(halos),
+      theta_(config.time.viscous == ViscousScheme::Explicit        ? 0.0
+             : config.time.viscous == ViscousScheme::CrankNicolson ? 0.5
+                                                                   : 1.0),
+      adv_("advection", dec.block(), dec.dim()), ustar_("predicted_velocity", dec.block(), dec.dim()),
+      rhs_("rhs", Location::Cell, dec.block(), dec.dim()),
+      phi_("pressure_correction", Location::Cell, dec.block(), dec.dim()) {
+    const Bool3 periodic = periodic_directions(config.boundaries);
+    pressure_ = std::make_unique<StructuredSolver>(dec, periodic, config.pressure_solver);
+    // -lap(phi) with zero normal gradient at walls (the ghost equals the interior value,
+    // so the coupling and its share of the centre coefficient both drop out).
+    const GlobalGrid& g = dec.grid();
+    pressure_->set_operator([&](int i, int j, int k) {
+        Stencil s;
+        const Int3 p{i, j, k};
+        for (int e = 0; e < dec.dim(); ++e)
+            for (int side = 0; side < 2; ++side) {
+                if (on_box_face(dec, config.boundaries, e, side, p)) continue;
+                const real w = 1.0 / (g.dx(e) * g.dx(e));
+                s.neighbour[e][side] = -w;
+                s.centre += w;
+            }
+        return s;
+    });
+    if (theta_ > 0)
+        for (int c = 0; c < dec.dim(); ++c)
+            viscous_[c] = std::make_unique<StructuredSolver>(dec, periodic, config.viscous_solver);
+}
+
+SmacStepper::~SmacStepper() = default;
+
+StepReport SmacStepper::step(FlowState& s, real dt, StageTimers& timers,
+                             const VelocityField* force) {
+    StepReport report;
+    timers.time("halo", [&] {
+        halos_.fill(s.u);
+        if (s.viscosity_varies) halos_.fill(s.mu);
+    });
+    timers.time("advection", [&] { advection(s); });
+    timers.time("predictor", [&] { predictor(s, dt, force); });
+    if (theta_ > 0) timers.time("viscous_solve", [&] { report.viscous = viscous_solve(s, dt); });
+    timers.time("pressure_solve", [&] { report.pressure = pressure_solve(dt); });
+    timers.time("correction", [&] { correction(s, dt); });
+    // The advective term of this step is the history of the next one.
+    std::swap(s.adv_prev, adv_);
+    s.dt_prev = dt;
+    s.time += dt;
+    ++s.step;
+    return report;
+}
+
+void SmacStepper::advection(const FlowState& s) {
+    const GlobalGrid& g = dec_.grid();
+    for (int c = 0; c < s.u.dim; ++c)
+        for_each_cell(dec_.block().cells, [&](int i, int j, int k) {
+            adv_[c](i, j, k) = advection_at(s.u, g, c, {i, j, k});
+        });
+}
+
+void SmacStepper::predictor(const FlowState& s, real dt, const VelocityField* force) {
+    const GlobalGrid& g = dec_.grid();
+    const real rho = cfg_.fluid.density;
+    // Adams-Bashforth 2 with variable step; forward Euler on the very first step.
+    const bool first = s.dt_prev <= 0;
+    const real a1 = first ? 1.0 : 1.0 + 0.5 * dt / s.dt_prev;
+    const real a0 = first ? 0.0 : -0.5 * dt / s.dt_prev;
+    const real explicit_share = 1.0 - theta_;
+    for (int c = 0; c < s.u.dim; ++c)
+        for_each_cell(dec_.block().cells, [&](int i, int j, int k) {
+            const Int3 p{i, j, k};
+            if (halos_.is_fixed_wall_face(c, p[c])) {
+                ustar_[c](p) = 0;
+                return;
+            }
+            real rate = a1 * adv_[c](p) + a0 * s.adv_prev[c](p);
+            rate += (-gradient_at(s.p, g, c, p) + cfg_.body_force[c]) / rho;
+            if (explicit_share > 0)
+                rate += explicit_share * viscous_laplacian_at(s.u, s.mu, g, c, p) / rho;
+            if (s.viscosity_varies) rate += viscous_transpose_at(s.u, s.mu, g, c, p) / rho;
+            if (force) rate += (*force)[c](p) / rho;
+            ustar_[c](p) = s.u[c](p) + dt * rate;
+        });
+}
+
+SolveReport SmacStepper::viscous_solve(const FlowState& s, real dt) {
+    const GlobalGrid& g = dec_.grid();
+    const auto& bc = cfg_.boundaries;
+    const real a = theta_ * dt / cfg_.fluid.density;
+    const bool reassemble = s.viscosity_varies || dt != viscous_dt_;
+    SolveReport worst;
+    for (int c = 0; c < s.u.dim; ++c) {
+        // Right-hand side: the predictor plus the known wall values of the ghosts.
+        for_each_cell(dec_.block().cells, [&](int i, int j, int k) {
+            const Int3 p{i, j, k};
+            real r = ustar_[c](p);
+            if (!halos_.is_fixed_wall_face(c, p[c])) {
+                const auto w = viscous_weights(s.mu, g, s.u.dim, c, p);
+                for (int e = 0; e < s.u.dim; ++e)
+                    for (int side = 0; side < 2; ++side)
+                        if (e != c && on_box_face(dec_, bc, e, side, p) &&
+                            bc[e][side].type == BoundaryType::Wall)
+                            r += 2 * a * w[e][side] * bc[e][side].velocity[c];
+            }
+            rhs_(p) = r;
+        });
+        if (reassemble) {
+            viscous_[c]->set_operator([&](int i, int j, int k) {
+                Stencil st;
+                const Int3 p{i, j, k};
+                if (halos_.is_fixed_wall_face(c, p[c])) {
+                    st.centre = 1; // the wall face keeps its zero normal velocity
+                    return st;
+                }
+                const auto w = viscous_weights(s.mu, g, s.u.dim, c, p);
+                st.centre = 1;
+                for (int e = 0; e < s.u.dim; ++e)
+                    for (int side = 0; side < 2; ++side) {
+                        st.centre += a * w[e][side];
+                        st.neighbour[e][side] = -a * w[e][side];
+                        if (e == c) {
+                            // Coupling to the fixed (zero) wall face drops out, keeping A symmetric.
+                            if (side == 0 && halos_.is_fixed_wall_face(c, p[c] - 1))
+                                st.neighbour[e][side] = 0;
+                        } else if (on_box_face(dec_, bc, e, side, p)) {
+                            // Ghost = 2U - u (wall) or u (free slip), folded into the centre.
+                            st.centre += bc[e][side].type == BoundaryType::Wall ? a * w[e][side]
+                                                                                : -a * w[e][side];
+                        }
+                    }
+                return st;
+            });
+        }
+        const SolveReport r = viscous_[c]->solve(rhs_, ustar_[c]);
+        if (r.iterations >= worst.iterations) worst = r;
+        worst.converged = worst.converged && r.converged;
+    }
+    viscous_dt_ = dt;
+    return worst;
+}
+
+SolveReport SmacStepper::pressure_solve(real dt) {
+    const GlobalGrid& g = dec_.grid();
+    halos_.fill(ustar_);
+    const real scale = cfg_.fluid.density / dt;
+    for_each_cell(dec_.block().cells, [&](int i, int j, int k) {
+        rhs_(i, j, k) = -scale * divergence_at(ustar_, g, {i, j, k});
+    });
+    // With no Dirichlet pressure anywhere the operator is singular: make the right-hand
+    // side compatible (zero mean), start from zero.
+    const real mean = mean_over_block(dec_, rhs_);
+    for_each_cell(dec_.block().cells, [&](int i, int j, int k) {
+        rhs_(i, j, k) -= mean;
+        phi_(i, j, k) = 0;
+    });
+    return pressure_->solve(rhs_, phi_);
+}
+
+void SmacStepper::correction(FlowState& s, real dt) {
+    const GlobalGrid& g = dec_.grid();
+    halos_.fill(phi_);
+    const real scale = dt / cfg_.fluid.density;
+    for (int c = 0; c < s.u.dim; ++c)
+        for_each_cell(dec_.block().cells, [&](int i, int j, int k) {
+            const Int3 p{i, j, k};
+            s.u[c](p) = halos_.is_fixed_wall_face(c, p[c])
+                            ? 0.0
+                            : ustar_[c](p) - scale * gradient_at(phi_, g, c, p);
+        });
+    const real mean = mean_over_block(dec_, phi_);
+    for_each_cell(dec_.block().cells, [&](int i, int j, int k) { s.p(i, j, k) += phi_(i, j, k) - mean; });
+    halos_.fill(s.p);
+}
+
+} // namespace efsi

@@ -1,0 +1,99 @@
+#include "time/time_step_control.hpp"
+
+#include "core/error.hpp"
+
+#include <algorithm>
+#include <cmath>
+#include <limits>
+
+namespace efsi {
+
+void velocity_bounds(const Decomposition& dec, const FlowState& s, real& rate, real& speed) {
+    const GlobalGrid& g = dec.grid();
+    real r = 0, m = 0;
+    bool finite = true;
+    for_each_cell(dec.block().cells, [&](int i, int j, int k) {
+        real cell_rate = 0;
+        for (int d = 0; d < s.u.dim; ++d) {
+            const real v = std::abs(s.u[d](i, j, k));
+            if (!std::isfinite(v)) finite = false;
+            cell_rate += v / g.dx(d);
+            m = std::max(m, v);
+        }
+        r = std::max(r, cell_rate);
+    });
+    const real nan = std::numeric_limits<real>::quiet_NaN();
+    const real bad = dec.max(finite ? 0.0 : 1.0);
+    rate = bad > 0 ? nan : dec.max(r);
+    speed = bad > 0 ? nan : dec.max(m);
+}
+
+TimeStepChoice choose_time_step(const Config& cfg, const Decomposition& dec, const FlowState& s,
+                                real extra_limit, const std::string& extra_name) {
+    const GlobalGrid& g = dec.grid();
+    TimeStepChoice out;
+    real rate = 0;
+    velocity_bounds(dec, s, rate, out.max_speed);
+    real wall_rate = 0;
+    for (int d = 0; d < 3; ++d)
+        for (int side = 0; side < 2; ++side) {
+            real r = 0;
+            for (int c = 0; c < g.dim; ++c)
+                r += std::abs(cfg.boundaries[d][side].velocity[c]) / g.dx(c);
+            wall_rate = std::max(wall_rate, r);
+        }
+    const real inf = std::numeric_limits<real>::infinity();
+    if (!std::isfinite(rate)) {
+        out.dt = std::numeric_limits<real>::quiet_NaN();
+        out.cfl = out.dt;
+        out.limited_by = "non-finite velocity";
+        return out;
+    }
+    real best = inf;
+    auto consider = [&](real limit, const char* name) {
+        if (limit < best) {
+            best = limit;
+            out.limited_by = name;
+        }
+    };
+    const real advective_rate = std::max(rate, wall_rate);
+    if (advective_rate > 0) consider(1.0 / advective_rate, "advection");
+    if (cfg.time.viscous == ViscousScheme::Explicit) {
+        real mu_max = 0;
+        for_each_cell(dec.block().cells,
+                      [&](int i, int j, int k) { mu_max = std::max(mu_max, s.mu(i, j, k)); });
+        mu_max = dec.max(mu_max);
+        real inv = 0;
+        for (int d = 0; d < g.dim; ++d)
+            inv += 1.0 / (g.dx(d) * g.dx(d));
+        consider(cfg.fluid.density / (2 * mu_max * inv), "viscous");
+    }
+    real fmag = 0, hmin = inf;
+    for (int d = 0; d < g.dim; ++d) {
+        fmag += cfg.body_force[d] * cfg.body_force[d];
+        hmin = std::min(hmin, g.dx(d));
+    }
+    if (fmag > 0) consider(std::sqrt(hmin * cfg.fluid.density / std::sqrt(fmag)), "body force");
+    if (extra_limit > 0) consider(extra_limit, extra_name.c_str());
+
+    real dt = cfg.time.fixed_dt > 0 ? cfg.time.fixed_dt : cfg.time.cfl * best;
+    if (cfg.time.fixed_dt > 0) out.limited_by = "fixed";
+    if (cfg.time.fixed_dt == 0 && cfg.time.dt_max > 0 && dt > cfg.time.dt_max) {
+        dt = cfg.time.dt_max;
+        out.limited_by = "dt_max";
+    }
+    if (!std::isfinite(dt))
+        throw InputError("time: no stability limit bounds the step (fluid at rest, no forcing, "
+                         "implicit viscosity); set time.dt or time.dt_max");
+    // Land exactly on the end time instead of overshooting it.
+    const real remaining = cfg.time.end_time - s.time;
+    if (dt > remaining && remaining > 0) {
+        dt = remaining;
+        out.limited_by = "end time";
+    }
+    out.dt = dt;
+    out.cfl = dt * advective_rate;
+    return out;
+}
+
+} // namespace efsi

@@ -1,0 +1,190 @@
+#!/usr/bin/python3
+"""Verification harness: runs studies and collects their results.
+
+Usage:
+    /usr/bin/python3 verification/run.py [--tier quick|full|ci] [STUDY ...]
+
+Each study is a module ``verification/studies/<name>.py`` that defines
+
+    DESCRIPTION = "one line"
+    def run(ctx) -> dict
+
+``run`` returns ``{"metrics": {name: number}, "tables": {...}, "figures": [paths],
+"notes": "..."}`` (only ``metrics`` is required).  The harness writes
+``build/verification/<name>/result.json`` (the study's dict plus the tier, the commands
+it ran, the software versions and the wall time) and ``build/verification/report.md``
+collecting every result present.
+
+Tiers: ``ci`` is the smallest (runs inside the test budget), ``quick`` is minutes,
+``full`` is the real resolutions (hours allowed).
+"""
+from __future__ import annotations
+
+import argparse
+import importlib.util
+import json
+import os
+import platform
+import subprocess
+import sys
+import time
+import traceback
+from pathlib import Path
+
+REPO = Path(__file__).resolve().parent.parent
+STUDIES_DIR = REPO / "verification" / "studies"
+OUT_ROOT = REPO / "build" / "verification"
+
+
+class Context:
+    """What a study gets: where to write, which tier, and helpers to run the codes."""
+
+    def __init__(self, name: str, tier: str):
+        self.name = name
+        self.tier = tier
+        self.repo = REPO
+        self.outdir = OUT_ROOT / name
+        self.outdir.mkdir(parents=True, exist_ok=True)
+        self.efsi = REPO / "build" / "bin" / "efsi"
+        self.python = "/usr/bin/python3"
+        self.commands: list[str] = []
+
+    def mpi_prefix(self, ranks: int) -> list[str]:
+        """mpirun prefix that works as root and when ranks exceed cores."""
+        if ranks <= 1:
+            return []
+        return ["mpirun", "--oversubscribe", "-np", str(ranks)]
+
+    def run(self, cmd: list[str], ranks: int = 1, cwd: Path | None = None,
+            check: bool = True, timeout: float | None = None) -> subprocess.CompletedProcess:
+        """Run a command (under mpirun when ranks > 1), record it, return the result."""
+        full = self.mpi_prefix(ranks) + [str(c) for c in cmd]
+        self.commands.append(" ".join(full))
+        env = dict(os.environ)
+        env.setdefault("OMPI_ALLOW_RUN_AS_ROOT", "1")
+        env.setdefault("OMPI_ALLOW_RUN_AS_ROOT_CONFIRM", "1")
+        env.setdefault("OMPI_MCA_rmaps_base_oversubscribe", "1")
+        res = subprocess.run(full, cwd=cwd or REPO, env=env, capture_output=True,
+                             text=True, timeout=timeout)
+        if check and res.returncode != 0:
+            raise RuntimeError(f"command failed ({res.returncode}): {' '.join(full)}\n"
+                               f"{res.stdout[-3000:]}\n{res.stderr[-3000:]}")
+        return res
+
+    def run_efsi(self, case: str | Path, outdir: Path, sets: dict | None = None,
+                 ranks: int = 1, extra: list[str] | None = None) -> dict:
+        """Run the C++ solver on a case and return its summary.json as a dict."""
+        cmd = [self.efsi, "run", case, "--output", outdir]
+        for k, v in (sets or {}).items():
+            cmd += ["--set", f"{k}={v}"]
+        cmd += extra or []
+        self.run(cmd, ranks=ranks)
+        return json.loads((Path(outdir) / "summary.json").read_text())
+
+
+def versions() -> dict:
+    out = {"python": platform.python_version(), "platform": platform.platform()}
+    try:
+        out["git"] = subprocess.run(["git", "rev-parse", "HEAD"], cwd=REPO, text=True,
+                                    capture_output=True).stdout.strip()
+    except OSError:
+        pass
+    efsi = REPO / "build" / "bin" / "efsi"
+    if efsi.exists():
+        out["efsi"] = subprocess.run([str(efsi), "--version"], text=True,
+                                     capture_output=True).stdout.strip()
+    return out
+
+
+def discover() -> dict[str, Path]:
+    return {p.stem: p for p in sorted(STUDIES_DIR.glob("*.py")) if not p.stem.startswith("_")}
+
+
+def load(path: Path):
+    sys.path.insert(0, str(STUDIES_DIR))
+    spec = importlib.util.spec_from_file_location(f"study_{path.stem}", path)
+    mod = importlib.util.module_from_spec(spec)
+    spec.loader.exec_module(mod)
+    return mod
+
+
+def write_report() -> Path:
+    lines = ["# Verification report", ""]
+    for res_file in sorted(OUT_ROOT.glob("*/result.json")):
+        res = json.loads(res_file.read_text())
+        name = res_file.parent.name
+        lines += [f"## {name}", "", res.get("description", ""), "",
+                  f"tier `{res.get('tier')}`, status **{res.get('status')}**, "
+                  f"{res.get('wall_seconds', 0):.1f} s", ""]
+        if res.get("metrics"):
+            lines += ["| metric | value |", "|---|---|"]
+            for k, v in res["metrics"].items():
+                lines.append(f"| {k} | {v:.6g} |" if isinstance(v, (int, float))
+                             else f"| {k} | {v} |")
+            lines.append("")
+        for fig in res.get("figures", []):
+            rel = os.path.relpath(fig, OUT_ROOT)
+            lines.append(f"![{name}]({rel})")
+        if res.get("notes"):
+            lines += ["", res["notes"]]
+        if res.get("error"):
+            lines += ["", "```", res["error"][-2000:], "```"]
+        lines.append("")
+    report = OUT_ROOT / "report.md"
+    report.write_text("\n".join(lines))
+    return report
+
+
+def main() -> int:
+    ap = argparse.ArgumentParser(description=__doc__,
+                                 formatter_class=argparse.RawDescriptionHelpFormatter)
+    ap.add_argument("studies", nargs="*", help="study names (default: all)")
+    ap.add_argument("--tier", default="quick", choices=["ci", "quick", "full"])
+    ap.add_argument("--list", action="store_true", help="list the studies and exit")
+    args = ap.parse_args()
+
+    found = discover()
+    if args.list:
+        for name, path in found.items():
+            print(f"{name:24s} {getattr(load(path), 'DESCRIPTION', '')}")
+        return 0
+    names = args.studies or list(found)
+    unknown = [n for n in names if n not in found]
+    if unknown:
+        print(f"error: unknown study {unknown}; known: {list(found)}", file=sys.stderr)
+        return 2
+
+    failed = []
+    for name in names:
+        mod = load(found[name])
+        ctx = Context(name, args.tier)
+        print(f"== study {name} (tier {args.tier})", flush=True)
+        t0 = time.time()
+        result = {"study": name, "description": getattr(mod, "DESCRIPTION", ""),
+                  "tier": args.tier}
+        try:
+            result.update(mod.run(ctx))
+            result["status"] = "ok"
+        except Exception:  # a study failing must not hide the others
+            result["status"] = "failed"
+            result["error"] = traceback.format_exc()
+            failed.append(name)
+            print(result["error"], file=sys.stderr)
+        result["wall_seconds"] = time.time() - t0
+        result["commands"] = ctx.commands
+        result["versions"] = versions()
+        result.setdefault("metrics", {})
+        (ctx.outdir / "result.json").write_text(json.dumps(result, indent=2, default=str))
+        for k, v in result["metrics"].items():
+            print(f"   {k} = {v}")
+        print(f"   -> {ctx.outdir / 'result.json'} ({result['wall_seconds']:.1f} s)",
+              flush=True)
+    print(f"report: {write_report()}")
+    if failed:
+        print(f"failed studies: {failed}", file=sys.stderr)
+        return 1
+    return 0
+
+
+if __name__ == "__main__":
+    sys.exit(main())
