@@ -45,7 +45,8 @@ class Context:
         self.repo = REPO
         self.outdir = OUT_ROOT / name
         self.outdir.mkdir(parents=True, exist_ok=True)
-        self.efsi = REPO / "build" / "bin" / "efsi"
+        # EFSI_BIN lets a study run against another build (e.g. a debug build).
+        self.efsi = Path(os.environ.get("EFSI_BIN", REPO / "build" / "bin" / "efsi"))
         self.python = "/usr/bin/python3"
         self.commands: list[str] = []
 
