@@ -46,13 +46,15 @@ int main(int argc, char** argv) {
         std::vector<std::string> sets;
         bool quiet = false;
         auto* run = app.add_subcommand("run", "run a case");
-        run->add_option("case", case_path, "case folder (with case.toml) or .toml file")->required();
+        run->add_option("case", case_path, "case folder (with case.toml) or .toml file")
+            ->required();
         run->add_option("--set", sets, "override a case key: section.key=value (repeatable)");
         run->add_option("--output,-o", output, "output folder (default: out/<case name>)");
         run->add_option("--restart", restart, "continue from this checkpoint file");
         run->add_flag("--quiet,-q", quiet, "no progress lines");
 
-        auto* check = app.add_subcommand("check", "validate a case and print the resolved configuration");
+        auto* check =
+            app.add_subcommand("check", "validate a case and print the resolved configuration");
         check->add_option("case", case_path, "case folder or .toml file")->required();
         check->add_option("--set", sets, "override a case key: section.key=value (repeatable)");
 
@@ -68,8 +70,9 @@ int main(int argc, char** argv) {
                 Decomposition::choose_ranks(size, cfg.grid, cfg.ranks);
                 if (*check) {
                     if (rank == 0)
-                        std::cout << fmt::format("# case '{}' is valid ({}D, {} cells, {} rank(s))\n",
-                                                 cfg.name, cfg.grid.dim, cfg.grid.total_cells(), size)
+                        std::cout << fmt::format(
+                                         "# case '{}' is valid ({}D, {} cells, {} rank(s))\n",
+                                         cfg.name, cfg.grid.dim, cfg.grid.total_cells(), size)
                                   << cfg.resolved_toml << "\n";
                 } else {
                     RunOptions opt;

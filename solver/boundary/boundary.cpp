@@ -4,9 +4,12 @@ namespace efsi {
 
 std::string to_string(BoundaryType t) {
     switch (t) {
-    case BoundaryType::Periodic: return "periodic";
-    case BoundaryType::Wall: return "wall";
-    case BoundaryType::FreeSlip: return "free_slip";
+    case BoundaryType::Periodic:
+        return "periodic";
+    case BoundaryType::Wall:
+        return "wall";
+    case BoundaryType::FreeSlip:
+        return "free_slip";
     }
     return "?";
 }

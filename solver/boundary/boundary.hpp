@@ -39,7 +39,7 @@ inline Bool3 periodic_directions(const BoxBoundaries& bc) {
 /// Fills every halo of a field in one call: neighbour exchange and periodic wrap through
 /// the decomposition, then the physical boundary rule of each wall face.
 class HaloFiller {
-public:
+  public:
     HaloFiller(const Decomposition& decomposition, const BoxBoundaries& boundaries)
         : dec_(decomposition), bc_(boundaries) {}
 
@@ -54,11 +54,10 @@ public:
     /// True when face index `i` (local, along the normal of component d) is a wall face
     /// whose velocity is fixed at zero (only the low wall face is owned).
     bool is_fixed_wall_face(int d, int i_local) const {
-        return bc_[d][0].type != BoundaryType::Periodic && dec_.at_boundary(d, 0) &&
-               i_local == 0;
+        return bc_[d][0].type != BoundaryType::Periodic && dec_.at_boundary(d, 0) && i_local == 0;
     }
 
-private:
+  private:
     /// How ghosts mirror the interior across one wall face.
     enum class Mirror { Even, Odd, NormalFace };
     void apply_wall(Field& f, int d, int side, Mirror mirror, real wall_value) const;

@@ -12,9 +12,12 @@ namespace efsi {
 
 std::string to_string(ViscousScheme s) {
     switch (s) {
-    case ViscousScheme::Explicit: return "explicit";
-    case ViscousScheme::CrankNicolson: return "crank_nicolson";
-    case ViscousScheme::BackwardEuler: return "backward_euler";
+    case ViscousScheme::Explicit:
+        return "explicit";
+    case ViscousScheme::CrankNicolson:
+        return "crank_nicolson";
+    case ViscousScheme::BackwardEuler:
+        return "backward_euler";
     }
     return "?";
 }
@@ -71,9 +74,10 @@ FaceBoundary read_face(TableReader& parent, const std::string& key) {
     TableReader sub = parent.sub(
         key, "boundary condition of this box face: a table {type, velocity} or a bare string");
     const std::string type = sub.string("type", "periodic", types,
-                      "periodic, wall (no-slip, possibly moving) or free_slip");
-    const Real3 velocity = sub.vector3("velocity", Real3{0, 0, 0}, Range{}, "m/s",
-                           "wall velocity (tangential components only), for type = wall");
+                                        "periodic, wall (no-slip, possibly moving) or free_slip");
+    const Real3 velocity =
+        sub.vector3("velocity", Real3{0, 0, 0}, Range{}, "m/s",
+                    "wall velocity (tangential components only), for type = wall");
     sub.finish();
     f.type = type == "periodic" ? BoundaryType::Periodic
              : type == "wall"   ? BoundaryType::Wall
@@ -119,8 +123,8 @@ Config read_config(toml::table& root, const std::filesystem::path& case_dir) {
         c.grid.dim = c.grid.cells[2] == 1 ? 2 : 3;
         for (int d = 0; d < c.grid.dim; ++d)
             if (c.grid.cells[d] < 2 && !KeyCatalogue::instance().documenting)
-                throw InputError(fmt::format("grid.cells[{}] = {}: need at least 2 cells", d,
-                                             c.grid.cells[d]));
+                throw InputError(
+                    fmt::format("grid.cells[{}] = {}: need at least 2 cells", d, c.grid.cells[d]));
         // Cells must be cubes (the membrane and VOF geometry assume it); allow 1e-9 slack.
         const real h = c.grid.dx(0);
         for (int d = 1; d < c.grid.dim; ++d)
@@ -170,9 +174,9 @@ Config read_config(toml::table& root, const std::filesystem::path& case_dir) {
     }
     {
         TableReader r = top.sub("initial", "initial velocity field");
-        c.initial.type = r.string("type", "rest",
-                                  {"rest", "taylor_green", "couette", "poiseuille", "shear"},
-                                  "named initial velocity (see docs/case-reference.md)");
+        c.initial.type =
+            r.string("type", "rest", {"rest", "taylor_green", "couette", "poiseuille", "shear"},
+                     "named initial velocity (see docs/case-reference.md)");
         c.initial.amplitude =
             r.number("amplitude", 1.0, Range{}, "m/s", "velocity scale of the initial field");
         r.finish();
@@ -237,8 +241,7 @@ Config read_config(toml::table& root, const std::filesystem::path& case_dir) {
 
     if (!KeyCatalogue::instance().documenting) {
         // Impossible set-ups, caught before allocation.
-        if (c.time.fixed_dt == 0 && c.time.viscous == ViscousScheme::Explicit &&
-            c.time.cfl > 0.9)
+        if (c.time.fixed_dt == 0 && c.time.viscous == ViscousScheme::Explicit && c.time.cfl > 0.9)
             throw InputError("time.cfl: must be <= 0.9 with an explicit viscous term");
         for (int d = 0; d < c.grid.dim; ++d)
             if (c.boundaries[d][0].type == BoundaryType::Periodic &&

@@ -22,11 +22,11 @@ struct FluidConfig {
 };
 
 struct TimeConfig {
-    real end_time = 1;          ///< [s]
-    int max_steps = 1000000;    ///< hard cap on steps
-    real fixed_dt = 0;          ///< [s]; 0 selects the adaptive step
-    real cfl = 0.5;             ///< safety factor on every stability limit
-    real dt_max = 0;            ///< [s]; 0 = no cap
+    real end_time = 1;       ///< [s]
+    int max_steps = 1000000; ///< hard cap on steps
+    real fixed_dt = 0;       ///< [s]; 0 selects the adaptive step
+    real cfl = 0.5;          ///< safety factor on every stability limit
+    real dt_max = 0;         ///< [s]; 0 = no cap
     ViscousScheme viscous = ViscousScheme::CrankNicolson;
 };
 
@@ -44,8 +44,8 @@ struct OutputConfig {
 };
 
 struct StabilityConfig {
-    real max_cfl = 2.0;        ///< a run whose CFL exceeds this is declared unstable
-    real max_velocity = 1e6;   ///< |u| above this [m/s] is declared a blow-up
+    real max_cfl = 2.0;      ///< a run whose CFL exceeds this is declared unstable
+    real max_velocity = 1e6; ///< |u| above this [m/s] is declared a blow-up
 };
 
 struct Config {
@@ -55,7 +55,8 @@ struct Config {
     GlobalGrid grid;
     FluidConfig fluid;
     BoxBoundaries boundaries;
-    Real3 body_force{0, 0, 0}; ///< [N/m^3] uniform force density (= minus the mean pressure gradient)
+    Real3 body_force{0, 0,
+                     0}; ///< [N/m^3] uniform force density (= minus the mean pressure gradient)
     InitialConfig initial;
     TimeConfig time;
     LinearSolverSettings pressure_solver;

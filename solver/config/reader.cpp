@@ -43,20 +43,23 @@ toml::node* TableReader::get(const std::string& key) {
     return table_->get(key);
 }
 
-bool TableReader::has(const std::string& key) const { return table_->contains(key); }
+bool TableReader::has(const std::string& key) const {
+    return table_->contains(key);
+}
 
-void TableReader::document(const std::string& key, const std::string& type,
-                           const std::string& unit, const std::string& deflt,
-                           const std::string& range, const std::string& meaning) {
+void TableReader::document(const std::string& key, const std::string& type, const std::string& unit,
+                           const std::string& deflt, const std::string& range,
+                           const std::string& meaning) {
     KeyCatalogue::instance().add({full(key), type, unit, deflt, range, meaning});
 }
 
-static std::string fmt_real(real x) { return fmt::format("{}", x); }
+static std::string fmt_real(real x) {
+    return fmt::format("{}", x);
+}
 
 real TableReader::number(const std::string& key, std::optional<real> deflt, Range range,
                          const std::string& unit, const std::string& meaning) {
-    document(key, "float", unit, deflt ? fmt_real(*deflt) : "required", range.describe(),
-             meaning);
+    document(key, "float", unit, deflt ? fmt_real(*deflt) : "required", range.describe(), meaning);
     toml::node* n = get(key);
     real value = 0;
     if (!n) {
@@ -72,8 +75,8 @@ real TableReader::number(const std::string& key, std::optional<real> deflt, Rang
                                      toml::impl::node_type_friendly_names[int(n->type())]));
     }
     if (!range.contains(value))
-        throw InputError(fmt::format("{} = {}: out of range (allowed: {})", full(key), value,
-                                     range.describe()));
+        throw InputError(
+            fmt::format("{} = {}: out of range (allowed: {})", full(key), value, range.describe()));
     return value;
 }
 
@@ -95,8 +98,8 @@ int TableReader::integer(const std::string& key, std::optional<int> deflt, Range
         throw InputError(fmt::format("{}: expected an integer", full(key)));
     }
     if (!range.contains(real(value)))
-        throw InputError(fmt::format("{} = {}: out of range (allowed: {})", full(key), value,
-                                     range.describe()));
+        throw InputError(
+            fmt::format("{} = {}: out of range (allowed: {})", full(key), value, range.describe()));
     return int(value);
 }
 

@@ -25,13 +25,13 @@ struct KeyDoc {
 
 /// Collects the key documentation of every reader when enabled.
 class KeyCatalogue {
-public:
+  public:
     static KeyCatalogue& instance();
     void add(KeyDoc doc);
     const std::vector<KeyDoc>& keys() const { return keys_; }
     bool documenting = false;
 
-private:
+  private:
     std::vector<KeyDoc> keys_;
 };
 
@@ -47,7 +47,7 @@ struct Range {
 };
 
 class TableReader {
-public:
+  public:
     /// `path` is the dotted name of the table ("" for the root).
     TableReader(toml::table* table, std::string path);
 
@@ -68,9 +68,11 @@ public:
     TableReader sub(const std::string& key, const std::string& meaning);
     /// Error if the table holds keys that were not read.
     void finish() const;
-    std::string full(const std::string& key) const { return path_.empty() ? key : path_ + "." + key; }
+    std::string full(const std::string& key) const {
+        return path_.empty() ? key : path_ + "." + key;
+    }
 
-private:
+  private:
     toml::node* get(const std::string& key);
     void document(const std::string& key, const std::string& type, const std::string& unit,
                   const std::string& deflt, const std::string& range, const std::string& meaning);

@@ -8,13 +8,13 @@ namespace efsi {
 
 /// Bad input or an impossible set-up, reported before any allocation.
 class InputError : public std::runtime_error {
-public:
+  public:
     using std::runtime_error::runtime_error;
 };
 
 /// The run went wrong while stepping (NaN, blow-up, solver failure).
 class RunError : public std::runtime_error {
-public:
+  public:
     using std::runtime_error::runtime_error;
 };
 

@@ -36,10 +36,10 @@ void set_initial_condition(const Config& cfg, const Decomposition& dec, FlowStat
     }
     for_each_cell(b.cells, [&](int i, int j, int kk) {
         const Real3 x = position(g, b, Location::Cell, i, j, kk);
-        s.p(i, j, kk) = (type == "taylor_green" && g.dim == 2)
-                            ? cfg.fluid.density * U * U / 4 *
-                                  (std::cos(2 * k * x[0]) + std::cos(2 * k * x[1]))
-                            : 0.0;
+        s.p(i, j, kk) =
+            (type == "taylor_green" && g.dim == 2)
+                ? cfg.fluid.density * U * U / 4 * (std::cos(2 * k * x[0]) + std::cos(2 * k * x[1]))
+                : 0.0;
         s.mu(i, j, kk) = cfg.fluid.viscosity;
     });
     for (int c = 0; c < s.u.dim; ++c)

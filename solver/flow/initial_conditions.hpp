@@ -1,7 +1,8 @@
 // Named initial velocity fields (set on the faces at their exact positions).
 //
 //   rest          v = 0
-//   taylor_green  2D: u =  U sin(kx) cos(ky),  v = -U cos(kx) sin(ky), p = rho U^2/4 (cos 2kx + cos 2ky)
+//   taylor_green  2D: u =  U sin(kx) cos(ky),  v = -U cos(kx) sin(ky), p = rho U^2/4 (cos 2kx + cos
+//   2ky)
 //                 3D: u =  U sin(kx) cos(ky) cos(kz), v = -U cos(kx) sin(ky) cos(kz), w = 0
 //                 with k = 2 pi / L_x (the box must be a cube in the used directions)
 //   couette       u = U (y - y0) / L_y: the steady state of walls at y moving at 0 and U

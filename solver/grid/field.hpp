@@ -15,7 +15,7 @@
 namespace efsi {
 
 class Field {
-public:
+  public:
     Field() = default;
     Field(std::string name, Location loc, const LocalBlock& block, int dim, int halo = 2)
         : name_(std::move(name)), loc_(loc), cells_(block.cells) {
@@ -32,10 +32,18 @@ public:
         data_.assign(std::size_t(ext_[0]) * ext_[1] * ext_[2], init);
     }
 
-    real& operator()(int i, int j, int k) { return data_[index(i, j, k)]; }
-    real operator()(int i, int j, int k) const { return data_[index(i, j, k)]; }
-    real& operator()(const Int3& p) { return data_[index(p[0], p[1], p[2])]; }
-    real operator()(const Int3& p) const { return data_[index(p[0], p[1], p[2])]; }
+    real& operator()(int i, int j, int k) {
+        return data_[index(i, j, k)];
+    }
+    real operator()(int i, int j, int k) const {
+        return data_[index(i, j, k)];
+    }
+    real& operator()(const Int3& p) {
+        return data_[index(p[0], p[1], p[2])];
+    }
+    real operator()(const Int3& p) const {
+        return data_[index(p[0], p[1], p[2])];
+    }
 
     std::size_t index(int i, int j, int k) const {
         assert(i >= -halo_[0] && i < cells_[0] + halo_[0]);
@@ -45,17 +53,33 @@ public:
                std::size_t(k + halo_[2]) * stride_[2];
     }
 
-    const std::string& name() const { return name_; }
-    Location location() const { return loc_; }
-    const Int3& cells() const { return cells_; }
-    const Int3& halo() const { return halo_; }
-    const Int3& extent() const { return ext_; }
-    std::vector<real>& data() { return data_; }
-    const std::vector<real>& data() const { return data_; }
+    const std::string& name() const {
+        return name_;
+    }
+    Location location() const {
+        return loc_;
+    }
+    const Int3& cells() const {
+        return cells_;
+    }
+    const Int3& halo() const {
+        return halo_;
+    }
+    const Int3& extent() const {
+        return ext_;
+    }
+    std::vector<real>& data() {
+        return data_;
+    }
+    const std::vector<real>& data() const {
+        return data_;
+    }
 
-    void fill(real v) { data_.assign(data_.size(), v); }
+    void fill(real v) {
+        data_.assign(data_.size(), v);
+    }
 
-private:
+  private:
     std::string name_;
     Location loc_ = Location::Cell;
     Int3 cells_{0, 0, 0};

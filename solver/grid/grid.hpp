@@ -13,20 +13,22 @@ namespace efsi {
 /// Where a field's values live: cell centres or the faces normal to x, y or z.
 enum class Location { Cell, FaceX, FaceY, FaceZ };
 
-constexpr Location face_location(int d) { return static_cast<Location>(1 + d); }
+constexpr Location face_location(int d) {
+    return static_cast<Location>(1 + d);
+}
 /// Direction normal to a face location, -1 for cell centres.
-constexpr int face_normal(Location loc) { return static_cast<int>(loc) - 1; }
+constexpr int face_normal(Location loc) {
+    return static_cast<int>(loc) - 1;
+}
 
 struct GlobalGrid {
-    Int3 cells{1, 1, 1};      ///< number of cells per direction
-    Real3 length{1, 1, 1};    ///< box size [m]
-    Real3 origin{0, 0, 0};    ///< low corner [m]
-    int dim = 3;              ///< 2 for a one-cell z slab (no z work is done), else 3
+    Int3 cells{1, 1, 1};   ///< number of cells per direction
+    Real3 length{1, 1, 1}; ///< box size [m]
+    Real3 origin{0, 0, 0}; ///< low corner [m]
+    int dim = 3;           ///< 2 for a one-cell z slab (no z work is done), else 3
 
     real dx(int d) const { return length[d] / cells[d]; }
-    std::int64_t total_cells() const {
-        return std::int64_t(cells[0]) * cells[1] * cells[2];
-    }
+    std::int64_t total_cells() const { return std::int64_t(cells[0]) * cells[1] * cells[2]; }
     real cell_volume() const { return dx(0) * dx(1) * dx(2); }
 };
 
@@ -38,8 +40,7 @@ struct LocalBlock {
 };
 
 /// Position of the point of a location at local index (i,j,k) of a block.
-inline Real3 position(const GlobalGrid& g, const LocalBlock& b, Location loc, int i, int j,
-                      int k) {
+inline Real3 position(const GlobalGrid& g, const LocalBlock& b, Location loc, int i, int j, int k) {
     const Int3 idx{i, j, k};
     Real3 x{};
     for (int d = 0; d < 3; ++d) {

@@ -11,8 +11,12 @@ namespace fs = std::filesystem;
 
 namespace {
 // Fixed dataset names: buffers are swapped between steps, so their own names rotate.
-std::string velocity_name(int c) { return std::string("velocity_") + "uvw"[c]; }
-std::string history_name(int c) { return std::string("advection_previous_") + "uvw"[c]; }
+std::string velocity_name(int c) {
+    return std::string("velocity_") + "uvw"[c];
+}
+std::string history_name(int c) {
+    return std::string("advection_previous_") + "uvw"[c];
+}
 } // namespace
 
 void write_checkpoint(const fs::path& file, const Decomposition& dec, const FlowState& s,

@@ -50,8 +50,8 @@ void FieldOutput::write_mesh() {
     for_each_cell(b.cells, [&](int i, int j, int k) {
         const int I = b.offset[0] + i, J = b.offset[1] + j, K = b.offset[2] + k;
         // VTK / XDMF ordering: counter-clockwise bottom face, then the top face.
-        topo.insert(topo.end(), {node(I, J, K), node(I + 1, J, K), node(I + 1, J + 1, K),
-                                 node(I, J + 1, K)});
+        topo.insert(topo.end(),
+                    {node(I, J, K), node(I + 1, J, K), node(I + 1, J + 1, K), node(I, J + 1, K)});
         if (dim == 3)
             topo.insert(topo.end(), {node(I, J, K + 1), node(I + 1, J, K + 1),
                                      node(I + 1, J + 1, K + 1), node(I, J + 1, K + 1)});

@@ -17,13 +17,13 @@
 namespace efsi {
 
 class FieldOutput {
-public:
+  public:
     FieldOutput(const std::filesystem::path& output_dir, const Decomposition& dec);
     /// Write a snapshot (collective). Extra cell fields can be added by later physics.
     void write(const FlowState& s);
     int count() const { return int(index_.size()); }
 
-private:
+  private:
     void write_mesh();
     void write_xdmf() const;
 

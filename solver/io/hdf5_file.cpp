@@ -27,14 +27,14 @@ Hdf5File::~Hdf5File() {
     if (file_ >= 0) H5Fclose(file_);
 }
 
-void Hdf5File::write_flat_any(const std::string& name, const Int3& n, const Int3& o,
-                              const Int3& c, int ncomp, const void* values, hid_t type) {
+void Hdf5File::write_flat_any(const std::string& name, const Int3& n, const Int3& o, const Int3& c,
+                              int ncomp, const void* values, hid_t type) {
     const hsize_t total = hsize_t(n[0]) * n[1] * n[2];
     const int rank = ncomp > 1 ? 2 : 1;
     const hsize_t dims[2] = {total, hsize_t(ncomp)};
     hid_t fspace = H5Screate_simple(rank, dims, nullptr);
-    hid_t dset = H5Dcreate2(file_, name.c_str(), type, fspace, H5P_DEFAULT, H5P_DEFAULT,
-                            H5P_DEFAULT);
+    hid_t dset =
+        H5Dcreate2(file_, name.c_str(), type, fspace, H5P_DEFAULT, H5P_DEFAULT, H5P_DEFAULT);
     // The block is one strided hyperslab per z plane: rows of c[0] points, stride n[0].
     H5Sselect_none(fspace);
     for (int k = 0; k < c[2]; ++k) {
@@ -69,8 +69,7 @@ struct BlockSpace {
         const GlobalGrid& g = dec.grid();
         const LocalBlock& b = dec.block();
         const hsize_t dims[3] = {hsize_t(g.cells[2]), hsize_t(g.cells[1]), hsize_t(g.cells[0])};
-        const hsize_t start[3] = {hsize_t(b.offset[2]), hsize_t(b.offset[1]),
-                                  hsize_t(b.offset[0])};
+        const hsize_t start[3] = {hsize_t(b.offset[2]), hsize_t(b.offset[1]), hsize_t(b.offset[0])};
         const hsize_t count[3] = {hsize_t(b.cells[2]), hsize_t(b.cells[1]), hsize_t(b.cells[0])};
         fspace = H5Screate_simple(3, dims, nullptr);
         H5Sselect_hyperslab(fspace, H5S_SELECT_SET, start, nullptr, count, nullptr);
@@ -124,8 +123,8 @@ bool Hdf5File::has(const std::string& name) const {
 
 void Hdf5File::write_attribute(const std::string& name, double value) {
     hid_t space = H5Screate(H5S_SCALAR);
-    hid_t attr = H5Acreate2(file_, name.c_str(), H5T_NATIVE_DOUBLE, space, H5P_DEFAULT,
-                            H5P_DEFAULT);
+    hid_t attr =
+        H5Acreate2(file_, name.c_str(), H5T_NATIVE_DOUBLE, space, H5P_DEFAULT, H5P_DEFAULT);
     H5Awrite(attr, H5T_NATIVE_DOUBLE, &value);
     H5Aclose(attr);
     H5Sclose(space);

@@ -15,7 +15,7 @@
 namespace efsi {
 
 class Hdf5File {
-public:
+  public:
     enum class Mode { Create, Read };
     Hdf5File(const std::filesystem::path& path, Mode mode, const Decomposition& dec);
     ~Hdf5File();
@@ -36,7 +36,7 @@ public:
     void write_attribute(const std::string& name, double value);
     double read_attribute(const std::string& name) const;
 
-private:
+  private:
     void write_flat_any(const std::string& name, const Int3& global_points, const Int3& offset,
                         const Int3& count, int ncomp, const void* values, hid_t type);
     hid_t file_ = -1;

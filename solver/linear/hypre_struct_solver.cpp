@@ -10,8 +10,12 @@
 
 namespace efsi {
 
-LinearAlgebraScope::LinearAlgebraScope() { HYPRE_Init(); }
-LinearAlgebraScope::~LinearAlgebraScope() { HYPRE_Finalize(); }
+LinearAlgebraScope::LinearAlgebraScope() {
+    HYPRE_Init();
+}
+LinearAlgebraScope::~LinearAlgebraScope() {
+    HYPRE_Finalize();
+}
 
 struct StructuredSolver::Impl {
     HYPRE_StructGrid grid = nullptr;
@@ -24,13 +28,18 @@ struct StructuredSolver::Impl {
 
     void destroy_solver(const std::string& method) {
         if (solver) {
-            if (method.rfind("pcg", 0) == 0) HYPRE_StructPCGDestroy(solver);
-            else if (method.rfind("gmres", 0) == 0) HYPRE_StructGMRESDestroy(solver);
-            else HYPRE_StructPFMGDestroy(solver);
+            if (method.rfind("pcg", 0) == 0)
+                HYPRE_StructPCGDestroy(solver);
+            else if (method.rfind("gmres", 0) == 0)
+                HYPRE_StructGMRESDestroy(solver);
+            else
+                HYPRE_StructPFMGDestroy(solver);
         }
         if (precond) {
-            if (method.find("smg") != std::string::npos) HYPRE_StructSMGDestroy(precond);
-            else HYPRE_StructPFMGDestroy(precond);
+            if (method.find("smg") != std::string::npos)
+                HYPRE_StructSMGDestroy(precond);
+            else
+                HYPRE_StructPFMGDestroy(precond);
         }
         solver = precond = nullptr;
         setup_done = false;
@@ -151,16 +160,16 @@ SolveReport StructuredSolver::solve(const Field& rhs, Field& x) {
                 HYPRE_StructPCGSetMaxIter(I.solver, settings_.max_iterations);
                 HYPRE_StructPCGSetTwoNorm(I.solver, 1);
                 HYPRE_StructPCGSetRelChange(I.solver, 0);
-                HYPRE_StructPCGSetPrecond(I.solver, smg ? HYPRE_StructSMGSolve : HYPRE_StructPFMGSolve,
-                                          smg ? HYPRE_StructSMGSetup : HYPRE_StructPFMGSetup,
-                                          I.precond);
+                HYPRE_StructPCGSetPrecond(
+                    I.solver, smg ? HYPRE_StructSMGSolve : HYPRE_StructPFMGSolve,
+                    smg ? HYPRE_StructSMGSetup : HYPRE_StructPFMGSetup, I.precond);
                 HYPRE_StructPCGSetup(I.solver, I.A, I.b, I.x);
             } else {
                 HYPRE_StructGMRESCreate(dec_.comm(), &I.solver);
                 HYPRE_StructGMRESSetTol(I.solver, settings_.tolerance);
                 HYPRE_StructGMRESSetMaxIter(I.solver, settings_.max_iterations);
-                HYPRE_StructGMRESSetPrecond(I.solver, HYPRE_StructPFMGSolve,
-                                            HYPRE_StructPFMGSetup, I.precond);
+                HYPRE_StructGMRESSetPrecond(I.solver, HYPRE_StructPFMGSolve, HYPRE_StructPFMGSetup,
+                                            I.precond);
                 HYPRE_StructGMRESSetup(I.solver, I.A, I.b, I.x);
             }
         }

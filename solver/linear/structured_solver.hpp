@@ -35,7 +35,7 @@ struct Stencil {
 
 /// Starts and stops the linear-algebra library (once per process, around everything).
 class LinearAlgebraScope {
-public:
+  public:
     LinearAlgebraScope();
     ~LinearAlgebraScope();
     LinearAlgebraScope(const LinearAlgebraScope&) = delete;
@@ -43,7 +43,7 @@ public:
 };
 
 class StructuredSolver {
-public:
+  public:
     StructuredSolver(const Decomposition& dec, Bool3 periodic, LinearSolverSettings settings);
     ~StructuredSolver();
     StructuredSolver(const StructuredSolver&) = delete;
@@ -78,7 +78,7 @@ public:
 
     const LinearSolverSettings& settings() const { return settings_; }
 
-private:
+  private:
     void assemble_operator();
 
     struct Impl;

@@ -105,8 +105,7 @@ inline real viscous_transpose_at(const VelocityField& u, const Field& mu, const 
             acc += (hi - lo) / (g.dx(c) * g.dx(c));
         } else {
             auto flux = [&](const Int3& q) { // mu du_e/dx_c on the (c,e) edge of cell q
-                return edge_viscosity(mu, c, e, q) * (u[e](q) - u[e](shifted(q, c, -1))) /
-                       g.dx(c);
+                return edge_viscosity(mu, c, e, q) * (u[e](q) - u[e](shifted(q, c, -1))) / g.dx(c);
             };
             acc += (flux(shifted(p, e, 1)) - flux(p)) / g.dx(e);
         }

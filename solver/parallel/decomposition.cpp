@@ -82,8 +82,7 @@ void Decomposition::exchange(Field& f, int d) const {
     Int3 lo{-h[0], -h[1], -h[2]}, hi{n[0] + h[0], n[1] + h[1], n[2] + h[2]};
     lo[d] = 0;
     hi[d] = g;
-    const std::size_t count =
-        std::size_t(hi[0] - lo[0]) * (hi[1] - lo[1]) * (hi[2] - lo[2]);
+    const std::size_t count = std::size_t(hi[0] - lo[0]) * (hi[1] - lo[1]) * (hi[2] - lo[2]);
     send_.resize(count);
     recv_.resize(count);
 
@@ -140,7 +139,9 @@ std::int64_t Decomposition::sum(std::int64_t x) const {
     MPI_Allreduce(&x, &r, 1, MPI_INT64_T, MPI_SUM, cart_);
     return r;
 }
-void Decomposition::barrier() const { MPI_Barrier(cart_); }
+void Decomposition::barrier() const {
+    MPI_Barrier(cart_);
+}
 
 void Decomposition::abort(const std::string& message) const {
     std::cerr << message << std::endl;

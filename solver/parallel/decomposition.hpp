@@ -15,10 +15,12 @@
 namespace efsi {
 
 /// MPI datatype of `real`.
-inline MPI_Datatype mpi_real() { return MPI_DOUBLE; }
+inline MPI_Datatype mpi_real() {
+    return MPI_DOUBLE;
+}
 
 class Decomposition {
-public:
+  public:
     /// `ranks_per_dim` entries of 0 are chosen by MPI_Dims_create. Throws InputError when
     /// the grid cannot be divided among the ranks (before any field is allocated).
     Decomposition(MPI_Comm world, const GlobalGrid& grid, Bool3 periodic,
@@ -59,7 +61,7 @@ public:
     /// Abort every rank with a message (used when one rank finds a fatal error).
     [[noreturn]] void abort(const std::string& message) const;
 
-private:
+  private:
     GlobalGrid grid_;
     LocalBlock block_;
     Bool3 periodic_{};

@@ -84,7 +84,8 @@ void Simulation::write_outputs_if_due(bool final_step) {
     }
     if (fields_) {
         const real interval = cfg_.output.fields_interval;
-        const bool due = final_step || (interval > 0 && s.time >= clock_.next_fields_time - 1e-12 * interval);
+        const bool due =
+            final_step || (interval > 0 && s.time >= clock_.next_fields_time - 1e-12 * interval);
         if (due || (s.step == 0)) {
             timers_.time("output", [&] { fields_->write(s); });
             if (interval > 0)
@@ -124,8 +125,8 @@ int Simulation::run() {
                 log(fmt::format("warning: step {}: pressure solve stopped at {} iterations, "
                                 "relative residual {:.2e}",
                                 s.step, r.pressure.iterations, r.pressure.relative_residual));
-            const bool final_step = !(s.time < cfg_.time.end_time * (1 - 1e-12)) ||
-                                    s.step >= cfg_.time.max_steps;
+            const bool final_step =
+                !(s.time < cfg_.time.end_time * (1 - 1e-12)) || s.step >= cfg_.time.max_steps;
             write_outputs_if_due(final_step);
             if (s.step % cfg_.output.progress_every == 0 || final_step) {
                 const double wall =
@@ -137,8 +138,8 @@ int Simulation::run() {
                 log(fmt::format("step {:7d}  t = {:.4e} s ({:5.1f}%)  dt = {:.3e} [{}]  "
                                 "div = {:.1e}  KE = {:.4e}  p-its {:3d}  ETA {:.0f} s",
                                 s.step, s.time, 100 * frac, choice.dt, choice.limited_by,
-                                last_.max_divergence, last_.kinetic_energy,
-                                r.pressure.iterations, eta));
+                                last_.max_divergence, last_.kinetic_energy, r.pressure.iterations,
+                                eta));
             }
         }
         check_stability(choose_time_step(cfg_, *dec_, s));

@@ -24,7 +24,7 @@ struct RunOptions {
 };
 
 class Simulation {
-public:
+  public:
     Simulation(const Config& config, const RunOptions& options, MPI_Comm world);
     ~Simulation();
     /// Step to the end. Returns 0 on success, 3 when the run went unstable (the message
@@ -34,7 +34,7 @@ public:
     const FlowState& state() const { return *state_; }
     const Decomposition& decomposition() const { return *dec_; }
 
-private:
+  private:
     void write_outputs_if_due(bool final_step);
     void check_stability(const TimeStepChoice& choice);
     void write_summary(double wall_seconds, const std::string& status,

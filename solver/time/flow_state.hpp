@@ -12,7 +12,7 @@ struct FlowState {
     Field mu;               ///< viscosity at cell centres [Pa s]
     real time = 0;          ///< [s]
     long step = 0;
-    real dt_prev = 0; ///< previous step's dt; 0 before the first step
+    real dt_prev = 0;              ///< previous step's dt; 0 before the first step
     bool viscosity_varies = false; ///< true once bodies make mu(x) non-uniform
 
     FlowState(const LocalBlock& block, int dim)

@@ -27,7 +27,8 @@ SmacStepper::SmacStepper(const Config& config, const Decomposition& dec, const H
       theta_(config.time.viscous == ViscousScheme::Explicit        ? 0.0
              : config.time.viscous == ViscousScheme::CrankNicolson ? 0.5
                                                                    : 1.0),
-      adv_("advection", dec.block(), dec.dim()), ustar_("predicted_velocity", dec.block(), dec.dim()),
+      adv_("advection", dec.block(), dec.dim()),
+      ustar_("predicted_velocity", dec.block(), dec.dim()),
       rhs_("rhs", Location::Cell, dec.block(), dec.dim()),
       phi_("pressure_correction", Location::Cell, dec.block(), dec.dim()) {
     const Bool3 periodic = periodic_directions(config.boundaries);
@@ -143,7 +144,8 @@ SolveReport SmacStepper::viscous_solve(const FlowState& s, real dt) {
                         st.centre += a * w[e][side];
                         st.neighbour[e][side] = -a * w[e][side];
                         if (e == c) {
-                            // Coupling to the fixed (zero) wall face drops out, keeping A symmetric.
+                            // Coupling to the fixed (zero) wall face drops out, keeping A
+                            // symmetric.
                             if (side == 0 && halos_.is_fixed_wall_face(c, p[c] - 1))
                                 st.neighbour[e][side] = 0;
                         } else if (on_box_face(dec_, bc, e, side, p)) {
@@ -192,7 +194,8 @@ void SmacStepper::correction(FlowState& s, real dt) {
                             : ustar_[c](p) - scale * gradient_at(phi_, g, c, p);
         });
     const real mean = mean_over_block(dec_, phi_);
-    for_each_cell(dec_.block().cells, [&](int i, int j, int k) { s.p(i, j, k) += phi_(i, j, k) - mean; });
+    for_each_cell(dec_.block().cells,
+                  [&](int i, int j, int k) { s.p(i, j, k) += phi_(i, j, k) - mean; });
     halos_.fill(s.p);
 }
 

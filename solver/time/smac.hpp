@@ -29,7 +29,7 @@ struct StepReport {
 };
 
 class SmacStepper {
-public:
+  public:
     SmacStepper(const Config& config, const Decomposition& dec, const HaloFiller& halos);
     ~SmacStepper();
 
@@ -38,7 +38,7 @@ public:
     StepReport step(FlowState& s, real dt, StageTimers& timers,
                     const VelocityField* force = nullptr);
 
-private:
+  private:
     void advection(const FlowState& s);
     void predictor(const FlowState& s, real dt, const VelocityField* force);
     SolveReport viscous_solve(const FlowState& s, real dt);

@@ -8,16 +8,17 @@
 namespace efsi {
 
 class StageTimers {
-public:
+  public:
     template <class F>
     void time(const std::string& stage, F&& f) {
         const auto t0 = std::chrono::steady_clock::now();
         f();
-        seconds_[stage] += std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
+        seconds_[stage] +=
+            std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
     }
     const std::map<std::string, double>& seconds() const { return seconds_; }
 
-private:
+  private:
     std::map<std::string, double> seconds_;
 };
 
