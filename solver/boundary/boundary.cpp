@@ -1,5 +1,7 @@
 #include "boundary/boundary.hpp"
 
+#include <cassert>
+
 namespace efsi {
 
 std::string to_string(BoundaryType t) {
@@ -17,6 +19,7 @@ std::string to_string(BoundaryType t) {
 void HaloFiller::apply_wall(Field& f, int d, int side, Mirror mirror, real wall_value) const {
     if (bc_[d][side].type == BoundaryType::Periodic || !dec_.at_boundary(d, side)) return;
     const Int3 n = f.cells();
+    assert(f.begin() == Int3({0, 0, 0}) && "whole-block fields only; patches exchange elsewhere");
     const Int3 h = f.halo();
     const int g = h[d];
     // Sweep the whole wall plane, halos of the other directions included.

@@ -1,6 +1,10 @@
 // A field owns its values on a rank's block plus halo cells and knows its location.
 //
-// Indices are signed: (0,0,0) is the first owned point, -1 is the first halo layer.
+// Indices are signed and block-local: (0,0,0) is the first owned point of the rank's
+// block, -1 is the first halo layer. A field may instead cover only a sub-box of the
+// block (a body's patch, `Field::on_patch`): it is indexed with the same block-local
+// indices, so one pointwise kernel serves a dense sweep and a sweep over a patch; only
+// [begin, begin + cells) plus halos is stored.
 // In 2D (dim == 2) there is no z halo, so k is always 0 and nothing is stored twice.
 #pragma once
 
@@ -18,7 +22,16 @@ class Field {
   public:
     Field() = default;
     Field(std::string name, Location loc, const LocalBlock& block, int dim, int halo = 2)
-        : name_(std::move(name)), loc_(loc), cells_(block.cells) {
+        : Field(std::move(name), loc, Int3{0, 0, 0}, block.cells, dim, halo) {}
+
+    /// A field over the sub-box [begin, begin + cells) of the block (block-local indices).
+    static Field on_patch(std::string name, Location loc, const Int3& begin, const Int3& cells,
+                          int dim, int halo = 2) {
+        return Field(std::move(name), loc, begin, cells, dim, halo);
+    }
+
+    Field(std::string name, Location loc, const Int3& begin, const Int3& cells, int dim, int halo)
+        : name_(std::move(name)), loc_(loc), begin_(begin), cells_(cells) {
         for (int d = 0; d < 3; ++d) {
             halo_[d] = (d < dim) ? halo : 0;
             ext_[d] = cells_[d] + 2 * halo_[d];
@@ -46,6 +59,9 @@ class Field {
     }
 
     std::size_t index(int i, int j, int k) const {
+        i -= begin_[0];
+        j -= begin_[1];
+        k -= begin_[2];
         assert(i >= -halo_[0] && i < cells_[0] + halo_[0]);
         assert(j >= -halo_[1] && j < cells_[1] + halo_[1]);
         assert(k >= -halo_[2] && k < cells_[2] + halo_[2]);
@@ -59,8 +75,13 @@ class Field {
     Location location() const {
         return loc_;
     }
+    /// Number of owned points per direction.
     const Int3& cells() const {
         return cells_;
+    }
+    /// Block-local index of the first owned point (0 for a whole-block field).
+    const Int3& begin() const {
+        return begin_;
     }
     const Int3& halo() const {
         return halo_;
@@ -82,6 +103,7 @@ class Field {
   private:
     std::string name_;
     Location loc_ = Location::Cell;
+    Int3 begin_{0, 0, 0};
     Int3 cells_{0, 0, 0};
     Int3 halo_{0, 0, 0};
     Int3 ext_{0, 0, 0};

@@ -4,6 +4,8 @@
 
 #include <fmt/core.h>
 
+#include <cassert>
+
 #include <iostream>
 
 namespace efsi {
@@ -76,6 +78,7 @@ void Decomposition::exchange(Field& f, int d) const {
     const int g = f.halo()[d];
     if (g == 0) return;
     const Int3 n = f.cells();
+    assert(f.begin() == Int3({0, 0, 0}) && "whole-block fields only; patches exchange elsewhere");
     const Int3 h = f.halo();
     // The slab spans the full extent (halos included) of the other directions, so that
     // exchanging x, then y, then z also fills edge and corner halos.
