@@ -1,0 +1,108 @@
+"""FEniCSx reference: 2D (z-invariant) capsule in simple shear, full-Eulerian finite
+elements (``reference/vesicle_shear_2d.py``) at two mesh sizes and Ca = 0.05, 0.2,
+cross-checked against an independent 2D boundary-integral Lagrangian capsule
+(``reference/capsule_bi_2d.py``, unbounded shear, Re = 0).
+
+The published curves in data/capsule_shear are for 3D spherical capsules; a 2D capsule
+(an elastic ring) deforms much more, so they are drawn for context only.  The like-for-like
+reference for the FE numbers is the 2D boundary-integral solution.
+"""
+import json
+import os
+
+import numpy as np
+
+DESCRIPTION = "FE reference: 2D Eulerian capsule in shear, D(t) at two meshes vs 2D boundary integrals"
+
+# (h_far, refine) pairs: h at the capsule = h_far / 2**refine (a = 1, d = 2)
+TIERS = {
+    "ci": {"meshes": [(0.5, 1), (0.375, 1)], "box": (8.0, 6.0), "bi_N": [32, 64]},
+    "quick": {"meshes": [(0.5, 1), (0.5, 2)], "box": (16.0, 8.0), "bi_N": [64, 128]},
+    "full": {"meshes": [(0.5, 2), (0.5, 3)], "box": (16.0, 8.0), "bi_N": [128, 256]},
+}
+CAS = (0.05, 0.2)
+
+
+def run(ctx):
+    import matplotlib
+    matplotlib.use("Agg")
+    import matplotlib.pyplot as plt
+
+    os.environ.setdefault("OMP_NUM_THREADS", "1")   # 2 cores: no thread oversubscription
+    cfg = TIERS[ctx.tier]
+    Lx, Ly = cfg["box"]
+    fe_script = ctx.repo / "reference" / "vesicle_shear_2d.py"
+    bi_script = ctx.repo / "reference" / "capsule_bi_2d.py"
+    out = ctx.outdir
+    fe = {}
+    for Ca in CAS:
+        for i, (hf, ref) in enumerate(cfg["meshes"]):
+            sub = out / f"fe_m{i}"
+            wt = ["--write-times", "0.5", "1.0"] if i == len(cfg["meshes"]) - 1 else []
+            ctx.run([ctx.python, fe_script, "--Ca", Ca, "--h-far", hf, "--refine", ref,
+                     "--Lx", Lx, "--Ly", Ly, "--t-end", 1.0, "--out", sub, *wt])
+            tag = f"ca{Ca:g}_r{ref}"
+            fe[(Ca, i)] = (json.loads((sub / f"capsule_{tag}.json").read_text()),
+                           np.genfromtxt(sub / f"capsule_{tag}.csv", delimiter=",", names=True))
+    ctx.run([ctx.python, bi_script, "--Ca", *CAS, "--N", *cfg["bi_N"], "--t-end", 1.0,
+             "--out", out / "bi"])
+    bi = {(s["Ca"], s["N"]): s for s in json.loads((out / "bi" / "bi_summary.json").read_text())}
+    Nf = cfg["bi_N"][-1]
+
+    fine = len(cfg["meshes"]) - 1
+    metrics = {}
+    for Ca in CAS:
+        s_f, s_c = fe[(Ca, fine)][0], fe[(Ca, 0)][0]
+        D_bi = bi[(Ca, Nf)]["D_final"]
+        key = f"ca{Ca:g}"
+        metrics.update({
+            f"fe_D_{key}_t1": s_f["D_final"],
+            f"fe_D_{key}_t1_coarse": s_c["D_final"],
+            f"fe_theta_over_pi_{key}_t1": s_f["theta_over_pi_final"],
+            f"fe_wall_seconds_{key}": s_f["wall_seconds"],
+            f"fe_wall_seconds_{key}_coarse": s_c["wall_seconds"],
+            f"fe_h_over_d_{key}": s_f["h_over_d"],
+            f"fe_area_drift_{key}": s_f["area_drift"],
+            f"bi_D_{key}_t1": D_bi,
+            f"bi_theta_over_pi_{key}_t1": bi[(Ca, Nf)]["theta_over_pi_final"],
+            f"fe_vs_bi_D_rel_diff_{key}": (s_f["D_final"] - D_bi) / D_bi,
+            f"fe_vs_bi_D_rel_diff_{key}_coarse": (s_c["D_final"] - D_bi) / D_bi,
+        })
+        # early-time check D ~ t/2 (any Ca)
+        rows = fe[(Ca, fine)][1]
+        j = np.argmin(np.abs(rows["t"] - 0.1))
+        metrics[f"fe_D_{key}_t0.1_over_0.05"] = rows["D"][j] / 0.05
+
+    fig, ax = plt.subplots(figsize=(7, 5))
+    colors = {0.05: "C0", 0.2: "C3"}
+    for Ca in CAS:
+        for i in range(len(cfg["meshes"])):
+            s, rows = fe[(Ca, i)]
+            ax.plot(rows["t"], rows["D"], "-" if i == fine else "--", color=colors[Ca],
+                    label=f"FE Ca={Ca:g}, h=d/{1 / s['h_over_d']:.0f}")
+        b = np.genfromtxt(out / "bi" / f"bi_ca{Ca:g}_N{Nf}.csv", delimiter=",", names=True)
+        ax.plot(b["t"], b["D"], ":", color="k" if Ca == 0.05 else "0.4", lw=2,
+                label=f"2D boundary integral Ca={Ca:g}, N={Nf}")
+        d3 = np.loadtxt(f"/work/shared/data/capsule_shear/pozrikidis1995_ca{Ca:g}.csv",
+                        delimiter=",")
+        d3 = d3[np.argsort(d3[:, 0])]
+        ax.plot(d3[:, 0], d3[:, 1], "o", ms=3, mfc="none", color=colors[Ca],
+                label=f"3D sphere, Pozrikidis 1995 Ca={Ca:g} (context only)")
+    t = np.linspace(0, 0.5, 10)
+    ax.plot(t, t / 2, "k-", lw=0.6, label="D = t/2")
+    ax.set_xlabel("shear rate x t")
+    ax.set_ylabel("D = (L - B)/(L + B)")
+    ax.set_xlim(0, 1.05)
+    ax.legend(fontsize=7)
+    ax.set_title(f"2D capsule in shear (Re = 0.01, box {Lx:g}a x {Ly:g}a)")
+    fig.tight_layout()
+    png = out / "vesicle_D_t.png"
+    fig.savefig(png, dpi=120)
+
+    tables = {f"fe_ca{Ca:g}_mesh{i}": fe[(Ca, i)][0] for Ca in CAS
+              for i in range(len(cfg["meshes"]))}
+    tables["bi"] = list(bi.values())
+    notes = ("2D z-invariant capsule (elastic ring, T = Es/3 (lambda - lambda^-3)). "
+             "FE: bounded box with walls at +-Ly/2 and shear-traction ends; BI: unbounded "
+             "shear, Re = 0. Differences FE-BI include wall confinement and Re = 0.01.")
+    return {"metrics": metrics, "figures": [str(png)], "tables": tables, "notes": notes}
