@@ -75,14 +75,20 @@ Decomposition::~Decomposition() {
 }
 
 void Decomposition::exchange(Field& f, int d) const {
+    exchange(f, d, neighbour_[d][0] != MPI_PROC_NULL, neighbour_[d][1] != MPI_PROC_NULL);
+}
+
+void Decomposition::exchange(Field& f, int d, bool with_low, bool with_high) const {
     const int g = f.halo()[d];
     if (g == 0) return;
+    const Int3 b = f.begin();
     const Int3 n = f.cells();
-    assert(f.begin() == Int3({0, 0, 0}) && "whole-block fields only; patches exchange elsewhere");
     const Int3 h = f.halo();
+    if (n[d] < g) return; // an empty or too thin patch has nothing to send
     // The slab spans the full extent (halos included) of the other directions, so that
     // exchanging x, then y, then z also fills edge and corner halos.
-    Int3 lo{-h[0], -h[1], -h[2]}, hi{n[0] + h[0], n[1] + h[1], n[2] + h[2]};
+    Int3 lo{b[0] - h[0], b[1] - h[1], b[2] - h[2]};
+    Int3 hi{b[0] + n[0] + h[0], b[1] + n[1] + h[1], b[2] + n[2] + h[2]};
     lo[d] = 0;
     hi[d] = g;
     const std::size_t count = std::size_t(hi[0] - lo[0]) * (hi[1] - lo[1]) * (hi[2] - lo[2]);
@@ -109,17 +115,19 @@ void Decomposition::exchange(Field& f, int d) const {
                     f(p) = recv_[c++];
                 }
     };
-    const int low = neighbour_[d][0], high = neighbour_[d][1];
+    const int low = with_low ? neighbour_[d][0] : MPI_PROC_NULL;
+    const int high = with_high ? neighbour_[d][1] : MPI_PROC_NULL;
+    const int first = b[d], last = b[d] + n[d]; // owned range [first, last)
     // Send my first g layers down, receive my high halo from above.
-    pack(0);
+    pack(first);
     MPI_Sendrecv(send_.data(), int(count), mpi_real(), low, 10 + d, recv_.data(), int(count),
                  mpi_real(), high, 10 + d, cart_, MPI_STATUS_IGNORE);
-    if (high != MPI_PROC_NULL) unpack(n[d]);
+    if (high != MPI_PROC_NULL) unpack(last);
     // Send my last g layers up, receive my low halo from below.
-    pack(n[d] - g);
+    pack(last - g);
     MPI_Sendrecv(send_.data(), int(count), mpi_real(), high, 20 + d, recv_.data(), int(count),
                  mpi_real(), low, 20 + d, cart_, MPI_STATUS_IGNORE);
-    if (low != MPI_PROC_NULL) unpack(-g);
+    if (low != MPI_PROC_NULL) unpack(first - g);
 }
 
 real Decomposition::sum(real x) const {

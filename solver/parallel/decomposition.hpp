@@ -52,6 +52,11 @@ class Decomposition {
     /// Fill the halo layers of `f` in direction d from the neighbouring ranks (periodic
     /// wrap included). Physical-boundary halos are left for the boundary conditions.
     void exchange(Field& f, int d) const;
+    /// The same for a field on a patch (a sub-box of the block): exchange only with the
+    /// neighbours asked for. Both sides of a rank boundary must agree (see bodies/patch.hpp).
+    void exchange(Field& f, int d, bool with_low, bool with_high) const;
+    /// Rank of the neighbour on side 0 (low) or 1 (high) of direction d (or MPI_PROC_NULL).
+    int neighbour(int d, int side) const { return neighbour_[d][side]; }
 
     real sum(real x) const;
     real max(real x) const;
