@@ -16,7 +16,7 @@ DESCRIPTION = "FE reference: 2D Eulerian capsule in shear, D(t) at two meshes vs
 
 # (h_far, refine) pairs: h at the capsule = h_far / 2**refine (a = 1, d = 2)
 TIERS = {
-    "ci": {"meshes": [(0.5, 1), (0.375, 1)], "box": (8.0, 6.0), "bi_N": [32, 64]},
+    "ci": {"meshes": [(0.75, 1), (0.5, 1)], "box": (8.0, 6.0), "bi_N": [32, 64]},
     "quick": {"meshes": [(0.5, 1), (0.5, 2)], "box": (16.0, 8.0), "bi_N": [64, 128]},
     "full": {"meshes": [(0.5, 2), (0.5, 3)], "box": (16.0, 8.0), "bi_N": [128, 256]},
 }
