@@ -67,6 +67,33 @@ void HaloFiller::fill(Field& f) const {
     }
 }
 
+void HaloFiller::fill(Field& f, const Patch& patch) const {
+    if (patch.empty()) return;
+    const Int3 b = f.begin();
+    const Int3 n = f.cells();
+    const Int3 h = f.halo();
+    for (int d = 0; d < dec_.dim(); ++d) {
+        dec_.exchange(f, d, patch.exchange[d][0], patch.exchange[d][1]);
+        Int3 lo{b[0] - h[0], b[1] - h[1], b[2] - h[2]};
+        Int3 hi{b[0] + n[0] + h[0], b[1] + n[1] + h[1], b[2] + n[2] + h[2]};
+        for (int side = 0; side < 2; ++side) {
+            if (patch.exchange[d][side]) continue;
+            Box plane{lo, hi};
+            plane.lo[d] = 0;
+            plane.hi[d] = 1;
+            for_each_in(plane, [&](int i, int j, int k) {
+                for (int l = 0; l < h[d]; ++l) {
+                    Int3 ghost{i, j, k}, mirror{i, j, k};
+                    ghost[d] = side == 0 ? b[d] - 1 - l : b[d] + n[d] + l;
+                    mirror[d] = side == 0 ? b[d] + std::min(l, n[d] - 1)
+                                          : b[d] + n[d] - 1 - std::min(l, n[d] - 1);
+                    f(ghost) = f(mirror);
+                }
+            });
+        }
+    }
+}
+
 void HaloFiller::fill(VelocityField& v) const {
     for (int d = 0; d < dec_.dim(); ++d)
         for (int c = 0; c < v.dim; ++c) {

@@ -10,6 +10,7 @@
 //   cell scalars (pressure, phi, ...):    zero normal gradient, s_ghost = s_mirror
 #pragma once
 
+#include "bodies/patch.hpp"
 #include "core/types.hpp"
 #include "grid/field.hpp"
 #include "parallel/decomposition.hpp"
@@ -45,6 +46,10 @@ class HaloFiller {
 
     /// Scalar at cell centres: zero normal gradient at walls.
     void fill(Field& f) const;
+    /// Cell field on a body's patch: exchange where the patch continues on the
+    /// neighbouring rank; elsewhere (patch edge or wall) mirror the owned values (zero
+    /// normal gradient), which extends body fields into the halo.
+    void fill(Field& f, const Patch& patch) const;
     /// Velocity: wall rules for normal and tangential components.
     void fill(VelocityField& v) const;
 

@@ -84,7 +84,7 @@ void Decomposition::exchange(Field& f, int d, bool with_low, bool with_high) con
     const Int3 b = f.begin();
     const Int3 n = f.cells();
     const Int3 h = f.halo();
-    if (n[d] < g) return; // an empty or too thin patch has nothing to send
+    // A patch owns at least g layers wherever it exists (bodies/patch.cpp sees to it).
     // The slab spans the full extent (halos included) of the other directions, so that
     // exchanging x, then y, then z also fills edge and corner halos.
     Int3 lo{b[0] - h[0], b[1] - h[1], b[2] - h[2]};

@@ -1,0 +1,73 @@
+#include "bodies/body.hpp"
+
+#include <algorithm>
+
+namespace efsi {
+
+Body::Body(std::string name, BodyKind kind, bool bending, int dim)
+    : name_(std::move(name)), kind_(kind), bending_(bending), dim_(dim) {
+    tensor_.dim = dim;
+}
+
+Field Body::make_field(const std::string& n) const {
+    return Field::on_patch(name_ + "_" + n, Location::Cell, patch_.local.lo, patch_.local.size(),
+                           dim_);
+}
+
+void Body::allocate(const Patch& patch) {
+    patch_ = patch;
+    phi_ = make_field("phi");
+    phi_.fill(0);
+    const std::string base = kind_ == BodyKind::Solid ? "B" : "Gs";
+    tensor_.comp.clear();
+    for (int s = 0; s < SymmetricTensorField::count(dim_); ++s) {
+        tensor_.comp.push_back(make_field(SymmetricTensorField::component_name(base, s, dim_)));
+        // Identity on the diagonal: the undeformed state (for Gs, its extension off the band).
+        const bool diagonal = s < dim_;
+        tensor_.comp.back().fill(diagonal ? 1.0 : 0.0);
+    }
+    if (kind_ == BodyKind::Membrane && bending_) {
+        kappa_r_ = make_field("kappa_R");
+        kappa_r_->fill(0);
+    } else {
+        kappa_r_.reset();
+    }
+}
+
+void Body::move_to(const Patch& patch) {
+    const Patch old_patch = patch_;
+    Field old_phi = std::move(phi_);
+    std::vector<Field> old_tensor = std::move(tensor_.comp);
+    std::optional<Field> old_kappa = std::move(kappa_r_);
+    allocate(patch);
+    if (old_patch.empty() || patch_.empty()) return;
+    const Box& ob = old_patch.local;
+    // Every new owned point takes the value of the nearest old owned point: exact where
+    // they overlap, a zero-gradient extension elsewhere (phi is ~0 there by the margin).
+    auto nearest = [&](int i, int j, int k) {
+        Int3 q{i, j, k};
+        for (int d = 0; d < 3; ++d)
+            q[d] = std::clamp(q[d], ob.lo[d], ob.hi[d] - 1);
+        return q;
+    };
+    const Box overlap = intersect(ob, patch_.local);
+    for_each_in(patch_.local, [&](int i, int j, int k) {
+        const Int3 p{i, j, k};
+        const Int3 q = nearest(i, j, k);
+        const bool inside = !overlap.empty() && overlap.contains(Box{p, {i + 1, j + 1, k + 1}});
+        phi_(p) = inside ? old_phi(q) : 0.0;
+        for (std::size_t s = 0; s < old_tensor.size(); ++s)
+            tensor_.comp[s](p) = old_tensor[s](q);
+        if (kappa_r_ && old_kappa) (*kappa_r_)(p) = (*old_kappa)(q);
+    });
+}
+
+std::size_t Body::bytes() const {
+    std::size_t n = phi_.data().size();
+    for (const auto& c : tensor_.comp)
+        n += c.data().size();
+    if (kappa_r_) n += kappa_r_->data().size();
+    return n * sizeof(real);
+}
+
+} // namespace efsi

@@ -1,0 +1,53 @@
+#include "bodies/patch.hpp"
+
+namespace efsi {
+
+Patch make_patch(const Box& box, const Decomposition& dec, int halo_width) {
+    const GlobalGrid& g = dec.grid();
+    const LocalBlock& b = dec.block();
+    Patch p;
+    p.global = box;
+    for (int d = 0; d < 3; ++d) {
+        const int n = g.cells[d];
+        if (d >= g.dim) {
+            p.global.lo[d] = 0;
+            p.global.hi[d] = n;
+            continue;
+        }
+        const bool wraps = box.lo[d] < 0 || box.hi[d] > n;
+        if (dec.periodic()[d] && (wraps || box.hi[d] - box.lo[d] >= n)) {
+            p.global.lo[d] = 0;
+            p.global.hi[d] = n;
+        } else {
+            p.global.lo[d] = std::max(0, box.lo[d]);
+            p.global.hi[d] = std::min(n, box.hi[d]);
+            // Every rank the box touches must own at least `halo_width` layers of it, or
+            // the slab a neighbour expects would not exist. Blocks are uniform, so every
+            // rank widens the box identically.
+            const int m = b.cells[d];
+            const int first_block_end = (p.global.lo[d] / m + 1) * m;
+            if (first_block_end - p.global.lo[d] < halo_width)
+                p.global.lo[d] = first_block_end - halo_width;
+            const int last_block_start = ((p.global.hi[d] - 1) / m) * m;
+            if (p.global.hi[d] - last_block_start < halo_width)
+                p.global.hi[d] = last_block_start + halo_width;
+        }
+    }
+    const Box block_global{
+        b.offset, {b.offset[0] + b.cells[0], b.offset[1] + b.cells[1], b.offset[2] + b.cells[2]}};
+    p.local =
+        shifted(intersect(p.global, block_global), {-b.offset[0], -b.offset[1], -b.offset[2]});
+    if (p.local.empty()) return p;
+    for (int d = 0; d < g.dim; ++d) {
+        const bool full = p.global.lo[d] == 0 && p.global.hi[d] == g.cells[d];
+        // Across a rank boundary the global box continues iff it extends past this block.
+        const bool low_inside = p.global.lo[d] < b.offset[d];
+        const bool high_inside = p.global.hi[d] > b.offset[d] + b.cells[d];
+        const bool periodic_full = dec.periodic()[d] && full;
+        p.exchange[d][0] = (low_inside || periodic_full) && dec.neighbour(d, 0) != MPI_PROC_NULL;
+        p.exchange[d][1] = (high_inside || periodic_full) && dec.neighbour(d, 1) != MPI_PROC_NULL;
+    }
+    return p;
+}
+
+} // namespace efsi

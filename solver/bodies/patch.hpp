@@ -1,0 +1,35 @@
+// A body's patch: the part of the grid where its fields are stored and its kernels run.
+//
+// The patch is one box in GLOBAL cell indices, identical on every rank (it is reduced
+// over ranks), intersected with each rank's block. Because Cartesian neighbours share
+// their transverse index ranges, two neighbours always agree on the size of the slab they
+// exchange, and on whether to exchange at all: they do exactly when the global box
+// continues across their common boundary. A box that would wrap around a periodic
+// direction covers that whole direction instead (simple, and rare: a body crossing the
+// periodic boundary).
+#pragma once
+
+#include "grid/box.hpp"
+#include "parallel/decomposition.hpp"
+
+#include <array>
+
+namespace efsi {
+
+struct Patch {
+    Box global; ///< global cell indices, the same on every rank
+    Box local;  ///< block-local indices of the part this rank owns (may be empty)
+    /// Exchange halos with the neighbour on [direction][side].
+    std::array<std::array<bool, 2>, 3> exchange{};
+
+    bool empty() const { return local.empty(); }
+};
+
+/// The patch of a global box on this rank. `box` may extend past the grid (a margin):
+/// along periodic directions it is wrapped (becoming the whole direction if it would wrap),
+/// along walled directions it is clipped.
+/// The box is widened where needed so that every rank it touches owns at least
+/// `halo_width` layers of it.
+Patch make_patch(const Box& box, const Decomposition& dec, int halo_width = 2);
+
+} // namespace efsi

@@ -1,0 +1,65 @@
+"""Upper-convected transport of B and Gs in a steady linear flow v = A x (exact F = exp(A t)).
+
+Runs build/bin/efsi_transport_study for pure shear and pure extension on three grids and
+measures the relative L2 error of B (uniform, exact F F^T) and of Gs = F P_R F^T in the
+material shell R/2 < |X - c0| < 3R/2 around a translating, deforming sphere.
+"""
+import json
+import math
+
+import matplotlib
+
+matplotlib.use("Agg")
+import matplotlib.pyplot as plt  # noqa: E402
+
+DESCRIPTION = "B and Gs transport in linear flows against F = exp(A t): error and order"
+
+GRIDS = {"ci": (2, [16, 32]), "quick": (2, [16, 32, 64]), "full": (3, [16, 32, 64])}
+
+
+def order(h, e):
+    """Least-squares slope of log e against log h."""
+    lx = [math.log(x) for x in h]
+    ly = [math.log(max(y, 1e-300)) for y in e]
+    mx, my = sum(lx) / len(lx), sum(ly) / len(ly)
+    return sum((a - mx) * (b - my) for a, b in zip(lx, ly)) / sum((a - mx) ** 2 for a in lx)
+
+
+def run(ctx):
+    dim, grids = GRIDS[ctx.tier]
+    exe = ctx.efsi.parent / "efsi_transport_study"
+    metrics, rows = {}, []
+    fig, ax = plt.subplots(figsize=(5.5, 4))
+    orders = []
+    for flow in ("shear", "extension"):
+        errs_gs, errs_b = [], []
+        for n in grids:
+            out = ctx.run([exe, "--flow", flow, "--cells", n, "--dim", dim, "--time", 0.5])
+            r = json.loads(out.stdout)
+            rows.append(r)
+            errs_gs.append(r["Gs_error_L2"])
+            errs_b.append(r["B_error_L2"])
+            metrics[f"tensor_error_L2_{flow}_{n}"] = r["Gs_error_L2"]
+            metrics[f"B_error_L2_{flow}_{n}"] = r["B_error_L2"]
+        h = [2.0 / n for n in grids]
+        p = order(h, errs_gs)
+        metrics[f"tensor_order_{flow}"] = p
+        orders.append(p)
+        if max(errs_b) > 1e-12:
+            metrics[f"B_order_{flow}"] = order(h, errs_b)
+        ax.loglog(h, errs_gs, "o-", label=f"Gs, {flow} (order {p:.2f})")
+        if max(errs_b) > 1e-12:
+            ax.loglog(h, errs_b, "s--", label=f"B, {flow}")
+    metrics["tensor_order"] = min(orders)
+    ax.loglog(h, [errs_gs[0] * (x / h[0]) ** 2 for x in h], "k:", label="slope 2")
+    ax.set(xlabel="h", ylabel="relative L2 error at t = 0.5", title=f"tensor transport ({dim}D)")
+    ax.legend(fontsize=8)
+    fig.tight_layout()
+    png = ctx.outdir / "tensor_transport.png"
+    fig.savefig(png, dpi=110)
+    notes = ("B starts at I and stays uniform: in shear F = I + A t is quadratic in t, which "
+             "Heun's method integrates exactly (B error at round-off); in extension B converges "
+             "at second order. Gs varies in space, so the MUSCL/van Leer advection matters: its "
+             "L2 order approaches 2 from below; the max-norm order is near 1 because the "
+             "limiter clips the smooth extrema of the Gs components.")
+    return {"metrics": metrics, "tables": {"runs": rows}, "figures": [str(png)], "notes": notes}
