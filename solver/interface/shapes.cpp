@@ -1,0 +1,307 @@
+#include "interface/shapes.hpp"
+
+#include "core/error.hpp"
+
+#include <fmt/core.h>
+
+#include <algorithm>
+#include <cmath>
+#include <limits>
+#include <numbers>
+
+namespace efsi {
+
+Matrix3 identity_rotation() {
+    return {Real3{1, 0, 0}, Real3{0, 1, 0}, Real3{0, 0, 1}};
+}
+
+Matrix3 axis_angle_rotation(const Real3& axis, real angle) {
+    const real len = std::hypot(axis[0], axis[1], axis[2]);
+    if (!(len > 0)) throw InputError("axis_angle_rotation: zero rotation axis");
+    const Real3 a{axis[0] / len, axis[1] / len, axis[2] / len};
+    const real c = std::cos(angle), s = std::sin(angle);
+    // Rodrigues: R = c I + s [a]_x + (1 - c) a a^T.
+    Matrix3 r{};
+    for (int p = 0; p < 3; ++p)
+        for (int q = 0; q < 3; ++q)
+            r[p][q] = (p == q ? c : 0.0) + (1 - c) * a[p] * a[q];
+    r[0][1] -= s * a[2];
+    r[0][2] += s * a[1];
+    r[1][0] += s * a[2];
+    r[1][2] -= s * a[0];
+    r[2][0] -= s * a[1];
+    r[2][1] += s * a[0];
+    return r;
+}
+
+Real3 Shape::to_body(const Real3& x) const {
+    // y = R^T (x - c): the components of x - c along the body axes (columns of R).
+    Real3 y{0, 0, 0};
+    for (int b = 0; b < 3; ++b)
+        for (int a = 0; a < 3; ++a)
+            y[b] += rot_[a][b] * (x[a] - centre_[a]);
+    return y;
+}
+
+namespace {
+
+real norm3(const Real3& y) {
+    return std::hypot(y[0], y[1], y[2]);
+}
+
+class Sphere final : public Shape {
+  public:
+    Sphere(const Real3& c, real r) : Shape(c, identity_rotation()), r_(r) {}
+    bool level_bounds_distance() const override { return true; }
+    real exact_volume() const override { return 4.0 / 3.0 * std::numbers::pi * r_ * r_ * r_; }
+    std::string describe() const override { return fmt::format("sphere(r={:.6g})", r_); }
+
+  protected:
+    real body_level(const Real3& y) const override { return norm3(y) - r_; }
+
+  private:
+    real r_;
+};
+
+class Ellipsoid final : public Shape {
+  public:
+    Ellipsoid(const Real3& c, const Real3& a, const Matrix3& rot) : Shape(c, rot), a_(a) {}
+    bool level_bounds_distance() const override { return true; }
+    real exact_volume() const override {
+        return 4.0 / 3.0 * std::numbers::pi * a_[0] * a_[1] * a_[2];
+    }
+    std::string describe() const override {
+        return fmt::format("ellipsoid(a={:.6g},{:.6g},{:.6g})", a_[0], a_[1], a_[2]);
+    }
+
+  protected:
+    // y -> (y_a / a_a) stretches lengths by at most 1/min(a), so
+    // min(a) (|y/a| - 1) changes no faster than the distance: a distance lower bound.
+    real body_level(const Real3& y) const override {
+        const Real3 s{y[0] / a_[0], y[1] / a_[1], y[2] / a_[2]};
+        return std::min({a_[0], a_[1], a_[2]}) * (norm3(s) - 1);
+    }
+
+  private:
+    Real3 a_;
+};
+
+class BiconcaveDisc final : public Shape {
+  public:
+    BiconcaveDisc(const Real3& c, const Matrix3& rot, const EvansFungCoefficients& k)
+        : Shape(c, rot), k_(k) {}
+    bool level_bounds_distance() const override { return false; }
+    real exact_volume() const override {
+        // V = int_0^R0 2 h(rho) 2 pi rho drho = 2 pi R0^3 int_0^1 sqrt(1-r^2)(C0+C1 r^2+C2 r^4) r
+        // dr and int_0^1 sqrt(1-r^2) r^(2m+1) dr = 1/3, 2/15, 8/105 for m = 0, 1, 2.
+        const real i = k_.c0 / 3.0 + k_.c1 * 2.0 / 15.0 + k_.c2 * 8.0 / 105.0;
+        return 2 * std::numbers::pi * k_.r0 * k_.r0 * k_.r0 * i;
+    }
+    std::string describe() const override {
+        return fmt::format("biconcave_disc(R0={:.6g})", k_.r0);
+    }
+
+  protected:
+    real body_level(const Real3& y) const override {
+        const real rho = std::hypot(y[0], y[1]);
+        const real r = std::min(rho / k_.r0, 1.0);
+        const real r2 = r * r;
+        const real h = 0.5 * k_.r0 * std::sqrt(1 - r2) * (k_.c0 + k_.c1 * r2 + k_.c2 * r2 * r2);
+        return std::max(rho - k_.r0, std::abs(y[2]) - h);
+    }
+
+  private:
+    EvansFungCoefficients k_;
+};
+
+class Cylinder final : public Shape {
+  public:
+    Cylinder(const Real3& c, real r, const Matrix3& rot) : Shape(c, rot), r_(r) {}
+    bool level_bounds_distance() const override { return true; }
+    real exact_volume() const override { return std::numbers::pi * r_ * r_; } // per unit length
+    std::string describe() const override { return fmt::format("cylinder(r={:.6g})", r_); }
+
+  protected:
+    real body_level(const Real3& y) const override { return std::hypot(y[0], y[1]) - r_; }
+
+  private:
+    real r_;
+};
+
+class Box final : public Shape {
+  public:
+    Box(const Real3& c, const Real3& h, const Matrix3& rot) : Shape(c, rot), h_(h) {}
+    bool level_bounds_distance() const override { return true; }
+    real exact_volume() const override { return 8 * h_[0] * h_[1] * h_[2]; }
+    std::string describe() const override {
+        return fmt::format("box(h={:.6g},{:.6g},{:.6g})", h_[0], h_[1], h_[2]);
+    }
+
+  protected:
+    // Exact signed distance of a box: q = |y| - h; outside |max(q, 0)|, inside max(q).
+    real body_level(const Real3& y) const override {
+        real out2 = 0, in = -std::numeric_limits<real>::max();
+        for (int a = 0; a < 3; ++a) {
+            const real q = std::abs(y[a]) - h_[a];
+            out2 += q > 0 ? q * q : 0;
+            in = std::max(in, q);
+        }
+        return out2 > 0 ? std::sqrt(out2) : in;
+    }
+
+  private:
+    Real3 h_;
+};
+
+class Slab final : public Shape {
+  public:
+    Slab(const Real3& c, const Real3& n, real t) : Shape(c, identity_rotation()), n_(n), t_(t) {}
+    bool level_bounds_distance() const override { return true; }
+    real exact_volume() const override { return t_; } // per unit area
+    std::string describe() const override { return fmt::format("slab(t={:.6g})", t_); }
+
+  protected:
+    real body_level(const Real3& y) const override {
+        return std::abs(n_[0] * y[0] + n_[1] * y[1] + n_[2] * y[2]) - 0.5 * t_;
+    }
+
+  private:
+    Real3 n_;
+    real t_;
+};
+
+class Difference final : public Shape {
+  public:
+    Difference(std::unique_ptr<Shape> a, std::unique_ptr<Shape> b)
+        : Shape(Real3{0, 0, 0}, identity_rotation()), a_(std::move(a)), b_(std::move(b)) {}
+    bool level_bounds_distance() const override {
+        return a_->level_bounds_distance() && b_->level_bounds_distance();
+    }
+    real exact_volume() const override { return std::numeric_limits<real>::quiet_NaN(); }
+    std::string describe() const override { return a_->describe() + " minus " + b_->describe(); }
+
+  protected:
+    // The body frame is the lab frame (centre 0, identity), so y = x here.
+    real body_level(const Real3& y) const override { return std::max(a_->level(y), -b_->level(y)); }
+
+  private:
+    std::unique_ptr<Shape> a_, b_;
+};
+
+void require_positive(real v, const char* what) {
+    if (!(v > 0)) throw InputError(fmt::format("shape: {} must be positive (got {})", what, v));
+}
+
+} // namespace
+
+std::unique_ptr<Shape> make_sphere(const Real3& centre, real radius) {
+    require_positive(radius, "sphere radius");
+    return std::make_unique<Sphere>(centre, radius);
+}
+
+std::unique_ptr<Shape> make_ellipsoid(const Real3& centre, const Real3& semi_axes,
+                                      const Matrix3& rotation) {
+    for (real a : semi_axes)
+        require_positive(a, "ellipsoid semi-axis");
+    return std::make_unique<Ellipsoid>(centre, semi_axes, rotation);
+}
+
+std::unique_ptr<Shape> make_biconcave_disc(const Real3& centre, const Matrix3& rotation,
+                                           const EvansFungCoefficients& c) {
+    require_positive(c.r0, "biconcave disc R0");
+    return std::make_unique<BiconcaveDisc>(centre, rotation, c);
+}
+
+std::unique_ptr<Shape> make_cylinder(const Real3& centre, real radius, const Matrix3& rotation) {
+    require_positive(radius, "cylinder radius");
+    return std::make_unique<Cylinder>(centre, radius, rotation);
+}
+
+std::unique_ptr<Shape> make_box(const Real3& centre, const Real3& half_sizes,
+                                const Matrix3& rotation) {
+    for (real h : half_sizes)
+        require_positive(h, "box half-size");
+    return std::make_unique<Box>(centre, half_sizes, rotation);
+}
+
+std::unique_ptr<Shape> make_slab(const Real3& centre, const Real3& normal, real thickness) {
+    require_positive(thickness, "slab thickness");
+    const real len = norm3(normal);
+    require_positive(len, "slab normal length");
+    return std::make_unique<Slab>(centre, Real3{normal[0] / len, normal[1] / len, normal[2] / len},
+                                  thickness);
+}
+
+std::unique_ptr<Shape> make_difference(std::unique_ptr<Shape> a, std::unique_ptr<Shape> b) {
+    if (!a || !b) throw InputError("make_difference: missing shape");
+    return std::make_unique<Difference>(std::move(a), std::move(b));
+}
+
+namespace {
+
+/// True when the cell around `xc` (half-widths hw, only the first dim directions) may be
+/// cut by the surface and must be sub-sampled; otherwise `full` tells which side it is.
+bool may_be_cut(const Shape& s, const Real3& xc, const Real3& hw, int dim, bool& full) {
+    const real lc = s.level(xc);
+    full = lc < 0;
+    if (s.level_bounds_distance()) {
+        real hd2 = 0;
+        for (int d = 0; d < dim; ++d)
+            hd2 += hw[d] * hw[d];
+        return std::abs(lc) <= std::sqrt(hd2);
+    }
+    // Sign test on the 3^dim lattice {-1, 0, 1}^dim of corners, midpoints and centre.
+    int npts = 1;
+    for (int d = 0; d < dim; ++d)
+        npts *= 3;
+    for (int q = 0; q < npts; ++q) {
+        Real3 x = xc;
+        int code = q;
+        for (int d = 0; d < dim; ++d, code /= 3)
+            x[d] += (code % 3 - 1) * hw[d];
+        if (s.inside(x) != full) return true;
+    }
+    return false;
+}
+
+} // namespace
+
+VolumeFractionStats initial_volume_fraction(const Shape& shape, const GlobalGrid& grid,
+                                            const LocalBlock& block, Field& phi, int subsamples) {
+    if (subsamples < 1) throw InputError("initial_volume_fraction: subsamples must be >= 1");
+    const int dim = grid.dim;
+    Real3 hw{0, 0, 0};
+    for (int d = 0; d < dim; ++d)
+        hw[d] = 0.5 * grid.dx(d);
+    Int3 ns{1, 1, 1};
+    for (int d = 0; d < dim; ++d)
+        ns[d] = subsamples;
+    const real inv_count = 1.0 / (real(ns[0]) * ns[1] * ns[2]);
+
+    VolumeFractionStats st;
+    real vol = 0;
+    for_each_cell(block.cells, [&](int i, int j, int k) {
+        const Real3 xc = position(grid, block, Location::Cell, i, j, k);
+        bool full = false;
+        if (!may_be_cut(shape, xc, hw, dim, full)) {
+            phi(i, j, k) = full ? 1.0 : 0.0;
+        } else {
+            ++st.sampled_cells;
+            std::int64_t in = 0;
+            // Sub-cell centres: x = xc + ((s + 1/2)/n - 1/2) dx per direction.
+            for_each_cell(ns, [&](int a, int b, int c) {
+                const Int3 s{a, b, c};
+                Real3 x = xc;
+                for (int d = 0; d < dim; ++d)
+                    x[d] += ((s[d] + 0.5) / ns[d] - 0.5) * 2 * hw[d];
+                in += shape.inside(x) ? 1 : 0;
+            });
+            phi(i, j, k) = real(in) * inv_count;
+        }
+        vol += phi(i, j, k);
+    });
+    st.volume = vol * grid.cell_volume();
+    return st;
+}
+
+} // namespace efsi
