@@ -1,0 +1,75 @@
+#include "interface/geometry.hpp"
+
+#include "core/error.hpp"
+
+#include <algorithm>
+#include <cmath>
+
+namespace efsi {
+
+GradientStencil gradient_stencil_from_string(const std::string& s) {
+    if (s == "central") return GradientStencil::Central;
+    if (s == "youngs") return GradientStencil::Youngs;
+    if (s == "isotropic") return GradientStencil::Isotropic;
+    if (s == "distance") return GradientStencil::Distance;
+    throw InputError("normal stencil '" + s +
+                     "' is unknown (central, youngs, isotropic, distance)");
+}
+
+Real3 gradient_at(const Field& phi, const GlobalGrid& g, const Int3& p, GradientStencil st,
+                  real eps) {
+    const int dim = g.dim;
+    const bool distance = st == GradientStencil::Distance;
+    auto value = [&](const Int3& q) {
+        if (!distance) return phi(q);
+        const real c = std::clamp(phi(q), 1e-9, 1 - 1e-9);
+        return eps * std::atanh(2 * c - 1);
+    };
+    const real a = st == GradientStencil::Central  ? 0.0
+                   : st == GradientStencil::Youngs ? 0.25
+                                                   : 1.0 / 6.0;
+    const real w[3] = {a, 1 - 2 * a, a};
+    Real3 grad{0, 0, 0};
+    for (int d = 0; d < dim; ++d) {
+        // The two transverse directions (the second is absent in 2D).
+        const int t1 = (d + 1) % 3, t2 = (d + 2) % 3;
+        const int r1 = t1 < dim ? 1 : 0, r2 = t2 < dim ? 1 : 0;
+        real acc = 0;
+        for (int o1 = -r1; o1 <= r1; ++o1)
+            for (int o2 = -r2; o2 <= r2; ++o2) {
+                Int3 q = p;
+                q[t1] += o1;
+                q[t2] += o2;
+                const real weight = (r1 ? w[o1 + 1] : 1.0) * (r2 ? w[o2 + 1] : 1.0);
+                Int3 qp = q, qm = q;
+                qp[d] += 1;
+                qm[d] -= 1;
+                acc += weight * (value(qp) - value(qm));
+            }
+        grad[d] = acc / (2 * g.dx(d));
+    }
+    return grad;
+}
+
+void compute_normals(const Field& phi, const GlobalGrid& g, const Box& box, GradientStencil st,
+                     std::array<Field, 3>& n, real eps) {
+    for_each_in(box, [&](int i, int j, int k) {
+        const Real3 gr = gradient_at(phi, g, {i, j, k}, st, eps);
+        const real mag = std::sqrt(gr[0] * gr[0] + gr[1] * gr[1] + gr[2] * gr[2]);
+        for (int d = 0; d < g.dim; ++d)
+            n[d](i, j, k) = mag > 1e-12 / g.dx(0) ? gr[d] / mag : 0.0;
+    });
+}
+
+real mean_curvature_at(const std::array<Field, 3>& n, const GlobalGrid& g, int dim, const Int3& p) {
+    real div = 0;
+    for (int d = 0; d < dim; ++d) {
+        Int3 qp = p, qm = p;
+        qp[d] += 1;
+        qm[d] -= 1;
+        div += (n[d](qp) - n[d](qm)) / (2 * g.dx(d));
+    }
+    return -0.5 * div;
+}
+
+} // namespace efsi

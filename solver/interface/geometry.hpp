@@ -1,0 +1,49 @@
+// Interface geometry from a volume fraction phi: normals and curvature.
+//
+// Convention (MODEL.md): n = grad phi / |grad phi| points into the body (phi = 1 inside);
+// the curvature tensor is kappa = -grad n and the mean curvature kappa_m = -div(n) / 2
+// (1/R for a sphere of radius R).
+//
+// The gradient is a central difference along d averaged over the transverse neighbours
+// with weights w = (a, 1 - 2a, a) in each transverse direction:
+//   central    a = 0     (no averaging)
+//   youngs     a = 1/4   (1, 2, 1)/4, Youngs' stencil
+//   isotropic  a = 1/6   (1, 4, 1)/6
+// For phi = f(n.x) (a planar front), the O(h^2) error of the d-component is
+// h^2 f''' n_d (n_d^2/6 + a (1 - n_d^2)) / ... ; only a = 1/6 makes it proportional to n_d,
+// so the direction of the isotropic gradient is exact to O(h^4) for any tilt, while the
+// other two leave an O(h^2 f'''/f') direction error, which is O(1) when phi is smoothed
+// over a fixed number of cells.
+//
+//   distance   for a smoothed phi = (1 + tanh(psi / eps)) / 2 (the membrane's smoothed
+//              VOF), the profile is inverted, psi = eps atanh(2 phi - 1), and the
+//              isotropic stencil is applied to psi. psi is a distance-like function,
+//              linear across the band, so its differences carry no 1/eps factors and the
+//              normal is second order with the width fixed in cells. phi is clipped to
+//              [1e-9, 1 - 1e-9] first (psi saturates ~10 eps away from the surface).
+#pragma once
+
+#include "grid/box.hpp"
+#include "grid/field.hpp"
+
+#include <string>
+
+namespace efsi {
+
+enum class GradientStencil { Central, Youngs, Isotropic, Distance };
+
+GradientStencil gradient_stencil_from_string(const std::string& s);
+
+/// Gradient of a cell field at cell p with the chosen transverse weighting.
+/// For `Distance`, `eps` is the smoothing width of phi's tanh profile.
+Real3 gradient_at(const Field& phi, const GlobalGrid& g, const Int3& p, GradientStencil st,
+                  real eps = 0);
+
+/// Unit normals n = grad phi / |grad phi| on `box` (zero where |grad phi| < tiny).
+void compute_normals(const Field& phi, const GlobalGrid& g, const Box& box, GradientStencil st,
+                     std::array<Field, 3>& n, real eps = 0);
+
+/// Mean curvature -div(n)/2 at cell p by central differences of the normal field.
+real mean_curvature_at(const std::array<Field, 3>& n, const GlobalGrid& g, int dim, const Int3& p);
+
+} // namespace efsi
