@@ -9,6 +9,7 @@
 #pragma once
 
 #include "core/types.hpp"
+#include "grid/box.hpp"
 #include "grid/grid.hpp"
 
 #include <cassert>
@@ -78,6 +79,10 @@ class Field {
     /// Number of owned points per direction.
     const Int3& cells() const {
         return cells_;
+    }
+    /// The owned points as a box of block-local indices.
+    Box owned() const {
+        return Box{begin_, {begin_[0] + cells_[0], begin_[1] + cells_[1], begin_[2] + cells_[2]}};
     }
     /// Block-local index of the first owned point (0 for a whole-block field).
     const Int3& begin() const {

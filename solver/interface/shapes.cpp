@@ -128,9 +128,9 @@ class Cylinder final : public Shape {
     real r_;
 };
 
-class Box final : public Shape {
+class BoxShape final : public Shape {
   public:
-    Box(const Real3& c, const Real3& h, const Matrix3& rot) : Shape(c, rot), h_(h) {}
+    BoxShape(const Real3& c, const Real3& h, const Matrix3& rot) : Shape(c, rot), h_(h) {}
     bool level_bounds_distance() const override { return true; }
     real exact_volume() const override { return 8 * h_[0] * h_[1] * h_[2]; }
     std::string describe() const override {
@@ -221,7 +221,7 @@ std::unique_ptr<Shape> make_box(const Real3& centre, const Real3& half_sizes,
                                 const Matrix3& rotation) {
     for (real h : half_sizes)
         require_positive(h, "box half-size");
-    return std::make_unique<Box>(centre, half_sizes, rotation);
+    return std::make_unique<BoxShape>(centre, half_sizes, rotation);
 }
 
 std::unique_ptr<Shape> make_slab(const Real3& centre, const Real3& normal, real thickness) {
@@ -280,7 +280,8 @@ VolumeFractionStats initial_volume_fraction(const Shape& shape, const GlobalGrid
 
     VolumeFractionStats st;
     real vol = 0;
-    for_each_cell(block.cells, [&](int i, int j, int k) {
+    // The owned points of phi: the whole block, or a body's patch of it.
+    for_each_in(phi.owned(), [&](int i, int j, int k) {
         const Real3 xc = position(grid, block, Location::Cell, i, j, k);
         bool full = false;
         if (!may_be_cut(shape, xc, hw, dim, full)) {

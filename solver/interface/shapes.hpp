@@ -89,7 +89,8 @@ struct VolumeFractionStats {
     real volume = 0;                ///< sum phi dV over this rank's cells
 };
 
-/// Cell volume fraction of `shape` on the owned cells of `block`: 1 inside, 0 outside,
+/// Cell volume fraction of `shape` on the owned cells of phi (the whole `block`, or a
+/// body's patch of it): 1 inside, 0 outside,
 /// and in cells the surface may cut, the fraction of `subsamples`^dim uniformly placed
 /// points (cell-centred sub-cells) that lie inside. Error per cut cell ~ 1/subsamples^2
 /// for a smooth surface (midpoint rule on the sub-cells, the surface crossing each

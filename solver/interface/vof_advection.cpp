@@ -90,31 +90,29 @@ real face_flux(const Field& phi, const VofOptions& opt, int dim, int d, const In
 
 VofAdvection::VofAdvection(const HaloFiller& halos, const VofOptions& options)
     : halos_(halos), opt_(options) {
-    const Decomposition& dec = halos.decomposition();
-    chi_ = Field("vof_chi", Location::Cell, dec.block(), dec.dim());
-    flux_ = Field("vof_flux", Location::Cell, dec.block(), dec.dim());
     if (!(opt_.beta_thinc > 0) || !(opt_.beta_mthinc > 0))
         throw InputError("vof: beta must be positive");
     if (!(opt_.epsilon > 0 && opt_.epsilon < 0.5))
         throw InputError("vof: epsilon must be in (0, 1/2)");
 }
 
-void VofAdvection::sweep(Field& phi, const VelocityField& u, real dt, int d, VofStepStats& local) {
+void VofAdvection::sweep(Field& phi, const VelocityField& u, real dt, int d, const Patch* patch,
+                         VofStepStats& local) {
     const Decomposition& dec = halos_.decomposition();
     const GlobalGrid& g = dec.grid();
     const int dim = dec.dim();
-    const Int3 n = dec.block().cells;
     const real r = dt / g.dx(d);
-    // Faces 0..n_d along d (face n_d is the low face of the first high halo cell).
-    Int3 faces = n;
-    faces[d] += 1;
-    for_each_cell(faces, [&](int i, int j, int k) {
+    const Box cells = phi.owned();
+    // Faces lo..hi along d (face hi is the low face of the first cell past the box).
+    Box faces = cells;
+    faces.hi[d] += 1;
+    for_each_in(faces, [&](int i, int j, int k) {
         const Int3 p{i, j, k};
         const real c = u[d](p) * r;
         local.max_courant = std::max(local.max_courant, std::abs(c));
         flux_(p) = face_flux(phi, opt_, dim, d, p, c);
     });
-    for_each_cell(n, [&](int i, int j, int k) {
+    for_each_in(cells, [&](int i, int j, int k) {
         const Int3 p{i, j, k}, q = offset(p, d, 1);
         const real dc = (u[d](q) - u[d](p)) * r;
         real v = phi(p) - (flux_(q) - flux_(p)) + chi_(p) * dc;
@@ -127,20 +125,31 @@ void VofAdvection::sweep(Field& phi, const VelocityField& u, real dt, int d, Vof
         }
         phi(p) = v;
     });
-    halos_.fill(phi);
+    if (patch)
+        halos_.fill(phi, *patch);
+    else
+        halos_.fill(phi);
 }
 
-VofStepStats VofAdvection::advance(Field& phi, const VelocityField& u, real dt, std::int64_t step) {
+VofStepStats VofAdvection::advance(Field& phi, const VelocityField& u, real dt, std::int64_t step,
+                                   const Patch* patch) {
     const Decomposition& dec = halos_.decomposition();
     const int dim = dec.dim();
-    for_each_cell(dec.block().cells,
-                  [&](int i, int j, int k) { chi_(i, j, k) = phi(i, j, k) >= 0.5 ? 1.0 : 0.0; });
+    // Work arrays follow phi's box (the whole block, or a body's moving patch).
+    if (chi_.begin() != phi.begin() || chi_.cells() != phi.cells() || chi_.data().empty()) {
+        chi_ = Field::on_patch("vof_chi", Location::Cell, phi.begin(), phi.cells(), dim);
+        flux_ = Field::on_patch("vof_flux", Location::Cell, phi.begin(), phi.cells(), dim);
+    }
     VofStepStats local;
     local.min_before_clip = 0;
     local.max_before_clip = 1;
-    for (int s = 0; s < dim; ++s) {
-        const int d = (step % 2 == 0) ? s : dim - 1 - s;
-        sweep(phi, u, dt, d, local);
+    if (!(patch && patch->empty())) {
+        for_each_in(phi.owned(),
+                    [&](int i, int j, int k) { chi_(i, j, k) = phi(i, j, k) >= 0.5 ? 1.0 : 0.0; });
+        for (int s = 0; s < dim; ++s) {
+            const int d = (step % 2 == 0) ? s : dim - 1 - s;
+            sweep(phi, u, dt, d, patch, local);
+        }
     }
     VofStepStats st;
     st.min_before_clip = dec.min(local.min_before_clip);
@@ -155,7 +164,7 @@ VofStepStats VofAdvection::advance(Field& phi, const VelocityField& u, real dt, 
 
 real total_volume(const Decomposition& dec, const Field& phi) {
     real v = 0;
-    for_each_cell(dec.block().cells, [&](int i, int j, int k) { v += phi(i, j, k); });
+    for_each_in(phi.owned(), [&](int i, int j, int k) { v += phi(i, j, k); });
     return dec.sum(v) * dec.grid().cell_volume();
 }
 

@@ -65,14 +65,18 @@ class VofAdvection {
 
     /// Advance phi by dt with the face velocity u. On entry phi's and u's halos must be
     /// filled; on exit phi's halos are filled. `step` selects the sweep order. Throws
-    /// RunError when a Courant number reaches 1/2.
-    VofStepStats advance(Field& phi, const VelocityField& u, real dt, std::int64_t step);
+    /// RunError when a Courant number reaches 1/2. When phi lives on a body's patch, pass
+    /// the patch: the sweeps then cover only the patch (collective: every rank calls it,
+    /// also those whose part of the patch is empty).
+    VofStepStats advance(Field& phi, const VelocityField& u, real dt, std::int64_t step,
+                         const Patch* patch = nullptr);
 
     const VofOptions& options() const { return opt_; }
 
   private:
     /// One sweep in direction d; returns (min, max, clipped amount) locally.
-    void sweep(Field& phi, const VelocityField& u, real dt, int d, VofStepStats& local);
+    void sweep(Field& phi, const VelocityField& u, real dt, int d, const Patch* patch,
+               VofStepStats& local);
 
     const HaloFiller& halos_;
     VofOptions opt_;
