@@ -10,6 +10,9 @@ DESCRIPTION = "efsi flow core: 3D Taylor-Green throughput on 1 and 2 ranks"
 GRID = {"ci": 32, "quick": 64, "full": 128}
 STEPS = 20
 RANKS = [1, 2]
+# Each configuration is run REPEATS times and the fastest run is reported (best-of-n damps
+# interference from other jobs on a shared machine; every run is kept in the table).
+REPEATS = {"ci": 1, "quick": 2, "full": 2}
 
 
 def cpu_model() -> str:
@@ -26,26 +29,32 @@ def run(ctx):
     n = GRID[ctx.tier]
     metrics, rows = {}, []
     load_before = os.getloadavg()
+    all_runs = []
     for r in RANKS:
-        out = ctx.outdir / f"n{n}_np{r}"
-        summ = ctx.run_efsi("cases/taylor_green_3d", out, ranks=r, sets={
-            "grid.cells": f"[{n},{n},{n}]", "time.max_steps": str(STEPS),
-            # end_time far away so that max_steps ends the run on every grid
-            "time.end_time": "1000.0", "output.fields": "false",
-            "output.progress_every": "100000000"})
-        wall = summ["wall_seconds"]
-        stages = summ["stages"]
-        row = {"ranks": r, "decomposition": summ["ranks_per_dim"], "cells": summ["cells"],
-               "steps": summ["steps"], "wall_seconds": wall,
-               "seconds_per_step": wall / summ["steps"],
-               "cell_updates_per_second": summ["cell_updates_per_second"],
-               "pressure_fraction": stages["pressure_solve"] / wall,
-               "pressure_iterations_final": summ["final"]["pressure_iterations"],
-               "stages": stages}
-        rows.append(row)
-        metrics[f"cell_updates_per_second_np{r}"] = row["cell_updates_per_second"]
-        metrics[f"pressure_fraction_np{r}"] = row["pressure_fraction"]
-        metrics[f"seconds_per_step_np{r}"] = row["seconds_per_step"]
+        best = None
+        for rep in range(REPEATS[ctx.tier]):
+            out = ctx.outdir / f"n{n}_np{r}_run{rep}"
+            summ = ctx.run_efsi("cases/taylor_green_3d", out, ranks=r, sets={
+                "grid.cells": f"[{n},{n},{n}]", "time.max_steps": str(STEPS),
+                # end_time far away so that max_steps ends the run on every grid
+                "time.end_time": "1000.0", "output.fields": "false",
+                "output.progress_every": "100000000"})
+            wall = summ["wall_seconds"]
+            stages = summ["stages"]
+            row = {"ranks": r, "repeat": rep, "decomposition": summ["ranks_per_dim"],
+                   "cells": summ["cells"], "steps": summ["steps"], "wall_seconds": wall,
+                   "seconds_per_step": wall / summ["steps"],
+                   "cell_updates_per_second": summ["cell_updates_per_second"],
+                   "pressure_fraction": stages["pressure_solve"] / wall,
+                   "pressure_iterations_final": summ["final"]["pressure_iterations"],
+                   "loadavg_1min_after": os.getloadavg()[0], "stages": stages}
+            all_runs.append(row)
+            if best is None or row["cell_updates_per_second"] > best["cell_updates_per_second"]:
+                best = row
+        rows.append(best)
+        metrics[f"cell_updates_per_second_np{r}"] = best["cell_updates_per_second"]
+        metrics[f"pressure_fraction_np{r}"] = best["pressure_fraction"]
+        metrics[f"seconds_per_step_np{r}"] = best["seconds_per_step"]
     metrics["speedup_np2"] = (rows[1]["cell_updates_per_second"]
                               / rows[0]["cell_updates_per_second"])
     metrics["grid_n"] = n
@@ -65,5 +74,5 @@ def run(ctx):
         "pressure_fraction = stages.pressure_solve / wall_seconds. Load average before/after: "
         f"{load_before[0]:.2f} / {load_after[0]:.2f} (other jobs on the machine lower and "
         "scatter the figures; a loaded machine hurts the 2-rank run most).")
-    return {"metrics": metrics, "tables": {"runs": rows, "stages": stage_table,
+    return {"metrics": metrics, "tables": {"best": rows, "all_runs": all_runs, "stages": stage_table,
                                            "machine": machine}, "notes": notes}
