@@ -4,8 +4,9 @@
 
 namespace efsi {
 
-Body::Body(std::string name, BodyKind kind, bool bending, int dim)
-    : name_(std::move(name)), kind_(kind), bending_(bending), dim_(dim) {
+Body::Body(std::string name, BodyKind kind, bool bending, int dim, bool carries_tensor)
+    : name_(std::move(name)), kind_(kind), bending_(bending), dim_(dim),
+      carries_tensor_(carries_tensor) {
     tensor_.dim = dim;
 }
 
@@ -20,7 +21,7 @@ void Body::allocate(const Patch& patch) {
     phi_.fill(0);
     const std::string base = kind_ == BodyKind::Solid ? "B" : "Gs";
     tensor_.comp.clear();
-    for (int s = 0; s < SymmetricTensorField::count(dim_); ++s) {
+    for (int s = 0; carries_tensor_ && s < SymmetricTensorField::count(dim_); ++s) {
         tensor_.comp.push_back(make_field(SymmetricTensorField::component_name(base, s, dim_)));
         // Identity on the diagonal: the undeformed state (for Gs, its extension off the band).
         const bool diagonal = s < dim_;

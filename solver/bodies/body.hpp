@@ -16,7 +16,8 @@ enum class BodyKind { Solid, Membrane };
 
 class Body {
   public:
-    Body(std::string name, BodyKind kind, bool bending, int dim);
+    /// `carries_tensor` false makes a passive body: phi only (a tracer of the flow).
+    Body(std::string name, BodyKind kind, bool bending, int dim, bool carries_tensor = true);
 
     const std::string& name() const { return name_; }
     BodyKind kind() const { return kind_; }
@@ -47,6 +48,7 @@ class Body {
     BodyKind kind_;
     bool bending_;
     int dim_;
+    bool carries_tensor_;
     Patch patch_;
     Field phi_;
     SymmetricTensorField tensor_;

@@ -174,11 +174,13 @@ Config read_config(toml::table& root, const std::filesystem::path& case_dir) {
     }
     {
         TableReader r = top.sub("initial", "initial velocity field");
-        c.initial.type =
-            r.string("type", "rest", {"rest", "taylor_green", "couette", "poiseuille", "shear"},
-                     "named initial velocity (see docs/case-reference.md)");
+        c.initial.type = r.string(
+            "type", "rest", {"rest", "uniform", "taylor_green", "couette", "poiseuille", "shear"},
+            "named initial velocity (see docs/case-reference.md)");
         c.initial.amplitude =
             r.number("amplitude", 1.0, Range{}, "m/s", "velocity scale of the initial field");
+        c.initial.velocity = r.vector3("velocity", Real3{0, 0, 0}, Range{}, "m/s",
+                                       "type = uniform: the velocity everywhere");
         r.finish();
     }
     {
@@ -231,6 +233,8 @@ Config read_config(toml::table& root, const std::filesystem::path& case_dir) {
                                             "speed above which the run stops as a blow-up");
         r.finish();
     }
+    c.bodies = read_bodies(top, c.grid, periodic_directions(c.boundaries));
+    c.vof = read_vof(top);
     {
         TableReader r = top.sub("parallel", "MPI decomposition");
         c.ranks = r.ivector3("ranks", Int3{0, 0, 0}, Range::closed(0, 1e6),

@@ -3,6 +3,7 @@
 #pragma once
 
 #include "boundary/boundary.hpp"
+#include "config/body_config.hpp"
 #include "core/types.hpp"
 #include "grid/grid.hpp"
 #include "linear/structured_solver.hpp"
@@ -31,8 +32,9 @@ struct TimeConfig {
 };
 
 struct InitialConfig {
-    std::string type = "rest"; ///< rest | taylor_green | couette | poiseuille | shear
+    std::string type = "rest"; ///< rest | uniform | taylor_green | couette | poiseuille | shear
     real amplitude = 1;        ///< velocity scale [m/s]
+    Real3 velocity{0, 0, 0};   ///< uniform: the velocity [m/s]
 };
 
 struct OutputConfig {
@@ -64,6 +66,8 @@ struct Config {
     OutputConfig output;
     StabilityConfig stability;
     Int3 ranks{0, 0, 0};
+    std::vector<BodyConfig> bodies;
+    VofConfig vof;
     std::string resolved_toml; ///< the configuration with every default filled in
 };
 

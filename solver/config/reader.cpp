@@ -36,15 +36,15 @@ bool Range::contains(real x) const {
 }
 
 TableReader::TableReader(toml::table* table, std::string path)
-    : table_(table ? table : &empty_), path_(std::move(path)) {}
+    : table_(table), path_(std::move(path)) {}
 
 toml::node* TableReader::get(const std::string& key) {
     read_.push_back(key);
-    return table_->get(key);
+    return table_ ? table_->get(key) : nullptr;
 }
 
 bool TableReader::has(const std::string& key) const {
-    return table_->contains(key);
+    return table_ && table_->contains(key);
 }
 
 void TableReader::document(const std::string& key, const std::string& type, const std::string& unit,
@@ -204,7 +204,26 @@ TableReader TableReader::sub(const std::string& key, const std::string& meaning)
     return TableReader(n ? n->as_table() : nullptr, full(key));
 }
 
+std::vector<TableReader> TableReader::tables(const std::string& key, const std::string& meaning) {
+    KeyCatalogue::instance().add({full(key) + "[]", "array of tables", "-", "none", "-", meaning});
+    std::vector<TableReader> out;
+    toml::node* n = get(key);
+    if (KeyCatalogue::instance().documenting) {
+        out.emplace_back(nullptr, full(key) + "[]");
+        return out;
+    }
+    if (!n) return out;
+    toml::array* a = n->as_array();
+    if (!a || !a->is_array_of_tables())
+        throw InputError(
+            fmt::format("{}: expected an array of tables ([[{}]] sections)", full(key), full(key)));
+    for (std::size_t i = 0; i < a->size(); ++i)
+        out.emplace_back((*a)[i].as_table(), fmt::format("{}[{}]", full(key), i));
+    return out;
+}
+
 void TableReader::finish() const {
+    if (!table_) return;
     for (auto&& [k, v] : *table_) {
         const std::string key(k.str());
         if (std::find(read_.begin(), read_.end(), key) == read_.end())

@@ -66,6 +66,9 @@ class TableReader {
     bool has(const std::string& key) const;
     /// Sub-table reader; an absent sub-table reads as empty (all defaults).
     TableReader sub(const std::string& key, const std::string& meaning);
+    /// Readers of an array of tables (`[[key]]`), named key[0], key[1], ... In documenting
+    /// mode one empty reader is returned so that the entries' keys get documented.
+    std::vector<TableReader> tables(const std::string& key, const std::string& meaning);
     /// Error if the table holds keys that were not read.
     void finish() const;
     std::string full(const std::string& key) const {
@@ -76,10 +79,9 @@ class TableReader {
     toml::node* get(const std::string& key);
     void document(const std::string& key, const std::string& type, const std::string& unit,
                   const std::string& deflt, const std::string& range, const std::string& meaning);
-    toml::table* table_;
+    toml::table* table_; ///< null for an absent table (reads as empty)
     std::string path_;
     std::vector<std::string> read_;
-    toml::table empty_;
 };
 
 } // namespace efsi

@@ -20,7 +20,9 @@ void set_initial_condition(const Config& cfg, const Decomposition& dec, FlowStat
             const Real3 x = position(g, b, loc, i, j, kk);
             const real y = x[1] - g.origin[1];
             real v = 0;
-            if (type == "taylor_green") {
+            if (type == "uniform") {
+                v = cfg.initial.velocity[c];
+            } else if (type == "taylor_green") {
                 const real cz = g.dim == 3 ? std::cos(k * x[2]) : 1.0;
                 if (c == 0) v = U * std::sin(k * x[0]) * std::cos(k * x[1]) * cz;
                 if (c == 1) v = -U * std::cos(k * x[0]) * std::sin(k * x[1]) * cz;

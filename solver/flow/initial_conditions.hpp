@@ -1,6 +1,7 @@
 // Named initial velocity fields (set on the faces at their exact positions).
 //
 //   rest          v = 0
+//   uniform       v = initial.velocity
 //   taylor_green  2D: u =  U sin(kx) cos(ky),  v = -U cos(kx) sin(ky), p = rho U^2/4 (cos 2kx + cos
 //   2ky)
 //                 3D: u =  U sin(kx) cos(ky) cos(kz), v = -U cos(kx) sin(ky) cos(kz), w = 0

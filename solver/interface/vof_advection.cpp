@@ -62,7 +62,11 @@ real face_flux(const Field& phi, const VofOptions& opt, int dim, int d, const In
     const Int3 up = positive ? offset(p, d, -1) : p;
     const real f = phi(up);
     const real a = std::abs(c);
-    if (f <= opt.epsilon || f >= 1 - opt.epsilon) return c * f;
+    // A residue phi <= eps is not transported (zero flux): it stays where it is, so a
+    // body's support cannot creep through round-off tails, and a body's patch can hold
+    // every cell with phi > 0 (no volume is ever dropped when the patch moves).
+    if (f <= opt.epsilon) return 0;
+    if (f >= 1 - opt.epsilon) return c * f;
     if (opt.scheme == VofScheme::Thinc1D) {
         const real fm = phi(offset(up, d, -1)), fp = phi(offset(up, d, 1));
         // THINC only where phi is monotone across the cell (an interface); else upwind.
@@ -110,7 +114,11 @@ void VofAdvection::sweep(Field& phi, const VelocityField& u, real dt, int d, con
         const Int3 p{i, j, k};
         const real c = u[d](p) * r;
         local.max_courant = std::max(local.max_courant, std::abs(c));
-        flux_(p) = face_flux(phi, opt_, dim, d, p, c);
+        // No flux through the edge of a body's patch (only through faces shared with a
+        // neighbour rank's part of it), so the body's volume is conserved exactly.
+        const bool closed = patch && ((p[d] == cells.lo[d] && !patch->exchange[d][0]) ||
+                                      (p[d] == cells.hi[d] && !patch->exchange[d][1]));
+        flux_(p) = closed ? 0.0 : face_flux(phi, opt_, dim, d, p, c);
     });
     for_each_in(cells, [&](int i, int j, int k) {
         const Int3 p{i, j, k}, q = offset(p, d, 1);

@@ -45,7 +45,8 @@ struct VofOptions {
     real beta_thinc = 3.5;
     /// MTHINC sharpness along the normal, in unit-cell coordinates.
     real beta_mthinc = 2.0;
-    /// Cells with phi <= eps or >= 1 - eps are treated as empty/full (upwind flux).
+    /// Cells with phi <= eps are empty (no outflux: a residue stays put) and cells with
+    /// phi >= 1 - eps are full (upwind flux).
     real epsilon = 1e-8;
     /// Clip phi to [0,1] after each sweep (see the header comment).
     bool clip = true;

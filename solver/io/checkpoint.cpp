@@ -20,7 +20,7 @@ std::string history_name(int c) {
 } // namespace
 
 void write_checkpoint(const fs::path& file, const Decomposition& dec, const FlowState& s,
-                      const RunClock& clock) {
+                      const RunClock& clock, const std::vector<Body*>& bodies) {
     const fs::path tmp = fs::path(file.string() + ".tmp");
     {
         Hdf5File f(tmp, Hdf5File::Mode::Create, dec);
@@ -35,14 +35,24 @@ void write_checkpoint(const fs::path& file, const Decomposition& dec, const Flow
         f.write_attribute("dt_prev", s.dt_prev);
         f.write_attribute("dim", dec.dim());
         f.write_attribute("next_fields_time", clock.next_fields_time);
+        for (const Body* b : bodies) {
+            const std::string base = "body_" + b->name() + "_";
+            for (int d = 0; d < 3; ++d) {
+                f.write_attribute(base + "lo" + std::to_string(d), b->patch().global.lo[d]);
+                f.write_attribute(base + "hi" + std::to_string(d), b->patch().global.hi[d]);
+            }
+            f.write_block(base + "phi", b->phi());
+            for (const Field& c : b->tensor().comp)
+                f.write_block("body_" + c.name(), c);
+        }
     }
     dec.barrier();
     if (dec.rank() == 0) fs::rename(tmp, file);
     dec.barrier();
 }
 
-void read_checkpoint(const fs::path& file, const Decomposition& dec, FlowState& s,
-                     RunClock& clock) {
+void read_checkpoint(const fs::path& file, const Decomposition& dec, FlowState& s, RunClock& clock,
+                     const std::vector<Body*>& bodies) {
     if (!fs::exists(file))
         throw InputError(fmt::format("--restart {}: no such checkpoint file", file.string()));
     Hdf5File f(file, Hdf5File::Mode::Read, dec);
@@ -59,6 +69,18 @@ void read_checkpoint(const fs::path& file, const Decomposition& dec, FlowState& 
     s.step = long(f.read_attribute("step"));
     s.dt_prev = f.read_attribute("dt_prev");
     clock.next_fields_time = f.read_attribute("next_fields_time");
+    for (Body* b : bodies) {
+        const std::string base = "body_" + b->name() + "_";
+        Box box;
+        for (int d = 0; d < 3; ++d) {
+            box.lo[d] = int(f.read_attribute(base + "lo" + std::to_string(d)));
+            box.hi[d] = int(f.read_attribute(base + "hi" + std::to_string(d)));
+        }
+        b->allocate(make_patch(box, dec));
+        f.read_block(base + "phi", b->phi());
+        for (Field& c : b->tensor().comp)
+            f.read_block("body_" + c.name(), c);
+    }
 }
 
 } // namespace efsi

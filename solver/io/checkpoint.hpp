@@ -3,6 +3,7 @@
 // so a crash never leaves a corrupt last checkpoint.
 #pragma once
 
+#include "bodies/body.hpp"
 #include "parallel/decomposition.hpp"
 #include "time/flow_state.hpp"
 
@@ -14,9 +15,12 @@ struct RunClock {
     real next_fields_time = 0; ///< simulated time of the next snapshot
 };
 
+/// Bodies are stored with their patch box; on reading, each body of `bodies` (already
+/// constructed from the case) is re-allocated on its stored patch and filled.
 void write_checkpoint(const std::filesystem::path& file, const Decomposition& dec,
-                      const FlowState& s, const RunClock& clock);
+                      const FlowState& s, const RunClock& clock,
+                      const std::vector<Body*>& bodies = {});
 void read_checkpoint(const std::filesystem::path& file, const Decomposition& dec, FlowState& s,
-                     RunClock& clock);
+                     RunClock& clock, const std::vector<Body*>& bodies = {});
 
 } // namespace efsi

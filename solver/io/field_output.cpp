@@ -61,7 +61,7 @@ void FieldOutput::write_mesh() {
     f.write_flat("topology", g.cells, b.offset, b.cells, dim == 3 ? 8 : 4, topo);
 }
 
-void FieldOutput::write(const FlowState& s) {
+void FieldOutput::write(const FlowState& s, const std::vector<const Body*>& bodies) {
     const GlobalGrid& g = dec_.grid();
     const LocalBlock& b = dec_.block();
     const std::string name = fmt::format("fields_{:08d}.h5", s.step);
@@ -80,6 +80,24 @@ void FieldOutput::write(const FlowState& s) {
             f.write_block(names[c], s.u[c]);
         f.write_attribute("time", s.time);
         f.write_attribute("step", double(s.step));
+        extra_names_.clear();
+        for (const Body* body : bodies) {
+            auto write_patch_field = [&](const std::string& dataset, const Field& fld) {
+                std::vector<double> v;
+                if (!body->patch().empty())
+                    for_each_in(fld.owned(),
+                                [&](int i, int j, int k) { v.push_back(fld(i, j, k)); });
+                const Box& lb = body->patch().local;
+                const Int3 off{b.offset[0] + lb.lo[0], b.offset[1] + lb.lo[1],
+                               b.offset[2] + lb.lo[2]};
+                f.write_flat(dataset, g.cells, off,
+                             body->patch().empty() ? Int3{0, 0, 0} : lb.size(), 1, v);
+                extra_names_.push_back(dataset);
+            };
+            write_patch_field("phi_" + body->name(), body->phi());
+            for (const Field& c : body->tensor().comp)
+                write_patch_field(c.name(), c);
+        }
     }
     index_.push_back({s.step, s.time, name});
     if (dec_.rank() == 0) {
@@ -112,19 +130,27 @@ void FieldOutput::write_xdmf() const {
                   "Format=\"HDF\">mesh.h5:/geometry</DataItem>\n  </Geometry>\n</Grid>\n",
                   topo, ncells, per, npoints);
         out.print("<Grid Name=\"fields\" GridType=\"Collection\" CollectionType=\"Temporal\">\n");
+        auto attribute = [&](const std::string& name, const char* type, int ncomp,
+                             const std::string& file) {
+            const std::string dims =
+                ncomp > 1 ? fmt::format("{} {}", ncells, ncomp) : fmt::format("{}", ncells);
+            out.print("    <Attribute Name=\"{0}\" AttributeType=\"{1}\" Center=\"Cell\">\n"
+                      "      <DataItem Dimensions=\"{2}\" NumberType=\"Float\" Precision=\"8\" "
+                      "Format=\"HDF\">{3}:/{0}</DataItem>\n    </Attribute>\n",
+                      name, type, dims, file);
+        };
         for (const auto& e : index_) {
             out.print("  <Grid Name=\"step_{}\" GridType=\"Uniform\">\n"
                       "    <xi:include xpointer=\"xpointer(/Xdmf/Domain/Grid[@Name='mesh']/"
                       "*[self::Topology or self::Geometry])\"/>\n"
                       "    <Time Value=\"{:.17g}\"/>\n",
                       e.step, e.time);
-            out.print("    <Attribute Name=\"pressure\" AttributeType=\"Scalar\" Center=\"Cell\">\n"
-                      "      <DataItem Dimensions=\"{0}\" NumberType=\"Float\" Precision=\"8\" "
-                      "Format=\"HDF\">{1}:/pressure</DataItem>\n    </Attribute>\n"
-                      "    <Attribute Name=\"velocity\" AttributeType=\"Vector\" Center=\"Cell\">\n"
-                      "      <DataItem Dimensions=\"{0} 3\" NumberType=\"Float\" Precision=\"8\" "
-                      "Format=\"HDF\">{1}:/velocity</DataItem>\n    </Attribute>\n  </Grid>\n",
-                      ncells, e.file);
+            attribute("pressure", "Scalar", 1, e.file);
+            attribute("velocity", "Vector", 3, e.file);
+            // Body fields: the same bodies in every snapshot of a run.
+            for (const auto& n : extra_names_)
+                attribute(n, "Scalar", 1, e.file);
+            out.print("  </Grid>\n");
         }
         out.print("</Grid>\n</Domain>\n</Xdmf>\n");
     }

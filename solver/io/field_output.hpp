@@ -5,9 +5,11 @@
 //
 // Each snapshot holds cell-centred `pressure` and `velocity` (3 components; w = 0 in
 // 2D), the raw staggered components `faces/u`, `faces/v` (`faces/w`) as [nz][ny][nx]
-// arrays (index i is the low face of cell i), and attributes `time` and `step`.
+// arrays (index i is the low face of cell i), attributes `time` and `step`, and for
+// each body its phi and tensor components.
 #pragma once
 
+#include "bodies/body.hpp"
 #include "parallel/decomposition.hpp"
 #include "time/flow_state.hpp"
 
@@ -19,8 +21,9 @@ namespace efsi {
 class FieldOutput {
   public:
     FieldOutput(const std::filesystem::path& output_dir, const Decomposition& dec);
-    /// Write a snapshot (collective). Extra cell fields can be added by later physics.
-    void write(const FlowState& s);
+    /// Write a snapshot (collective), with each body's phi and tensor components as cell
+    /// data `phi_<body>`, `<body>_<component>` (zero outside the body's patch).
+    void write(const FlowState& s, const std::vector<const Body*>& bodies = {});
     int count() const { return int(index_.size()); }
 
   private:
@@ -34,6 +37,7 @@ class FieldOutput {
         double time;
         std::string file;
     };
+    std::vector<std::string> extra_names_; ///< cell fields of bodies, in every snapshot
     std::vector<Entry> index_;
 };
 

@@ -4,6 +4,8 @@
 
 #include <fmt/core.h>
 
+#include <algorithm>
+
 namespace efsi {
 
 Hdf5File::Hdf5File(const std::filesystem::path& path, Mode mode, const Decomposition& dec)
@@ -63,19 +65,27 @@ void Hdf5File::write_flat(const std::string& name, const Int3& n, const Int3& o,
 }
 
 namespace {
-struct BlockSpace {
+/// Selection of a field's owned box (whole block or patch) in the global [nz][ny][nx] array.
+struct BoxSpace {
     hid_t fspace, mspace;
-    BlockSpace(const Decomposition& dec) {
+    BoxSpace(const Decomposition& dec, const Field& f) {
         const GlobalGrid& g = dec.grid();
         const LocalBlock& b = dec.block();
+        const Int3 o = f.begin(), n = f.cells();
         const hsize_t dims[3] = {hsize_t(g.cells[2]), hsize_t(g.cells[1]), hsize_t(g.cells[0])};
-        const hsize_t start[3] = {hsize_t(b.offset[2]), hsize_t(b.offset[1]), hsize_t(b.offset[0])};
-        const hsize_t count[3] = {hsize_t(b.cells[2]), hsize_t(b.cells[1]), hsize_t(b.cells[0])};
+        const hsize_t start[3] = {hsize_t(b.offset[2] + o[2]), hsize_t(b.offset[1] + o[1]),
+                                  hsize_t(b.offset[0] + o[0])};
+        const hsize_t count[3] = {hsize_t(n[2]), hsize_t(n[1]), hsize_t(n[0])};
         fspace = H5Screate_simple(3, dims, nullptr);
-        H5Sselect_hyperslab(fspace, H5S_SELECT_SET, start, nullptr, count, nullptr);
-        mspace = H5Screate_simple(3, count, nullptr);
+        const bool empty = n[0] <= 0 || n[1] <= 0 || n[2] <= 0;
+        if (empty)
+            H5Sselect_none(fspace);
+        else
+            H5Sselect_hyperslab(fspace, H5S_SELECT_SET, start, nullptr, count, nullptr);
+        const hsize_t local = empty ? 0 : count[0] * count[1] * count[2];
+        mspace = H5Screate_simple(1, &local, nullptr);
     }
-    ~BlockSpace() {
+    ~BoxSpace() {
         H5Sclose(mspace);
         H5Sclose(fspace);
     }
@@ -83,10 +93,10 @@ struct BlockSpace {
 } // namespace
 
 void Hdf5File::write_block(const std::string& name, const Field& f) {
-    BlockSpace s(dec_);
+    BoxSpace s(dec_, f);
     std::vector<double> buf;
-    buf.reserve(std::size_t(dec_.block().count()));
-    for_each_cell(dec_.block().cells, [&](int i, int j, int k) { buf.push_back(f(i, j, k)); });
+    buf.reserve(std::size_t(std::max<std::int64_t>(0, f.owned().count())));
+    for_each_in(f.owned(), [&](int i, int j, int k) { buf.push_back(f(i, j, k)); });
     hid_t dset = H5Dcreate2(file_, name.c_str(), H5T_NATIVE_DOUBLE, s.fspace, H5P_DEFAULT,
                             H5P_DEFAULT, H5P_DEFAULT);
     H5Dwrite(dset, H5T_NATIVE_DOUBLE, s.mspace, s.fspace, xfer_, buf.data());
@@ -95,7 +105,6 @@ void Hdf5File::write_block(const std::string& name, const Field& f) {
 
 void Hdf5File::read_block(const std::string& name, Field& f) {
     if (!has(name)) throw RunError(fmt::format("checkpoint has no dataset '{}'", name));
-    BlockSpace s(dec_);
     hid_t dset = H5Dopen2(file_, name.c_str(), H5P_DEFAULT);
     hid_t space = H5Dget_space(dset);
     hsize_t dims[3] = {0, 0, 0};
@@ -105,16 +114,16 @@ void Hdf5File::read_block(const std::string& name, Field& f) {
     if (dims[0] != hsize_t(g.cells[2]) || dims[1] != hsize_t(g.cells[1]) ||
         dims[2] != hsize_t(g.cells[0])) {
         H5Dclose(dset);
-        throw InputError(fmt::format("checkpoint dataset '{}' is {}x{}x{} but the case grid is "
-                                     "{}x{}x{}",
-                                     name, dims[2], dims[1], dims[0], g.cells[0], g.cells[1],
+        throw InputError(fmt::format("dataset '{}' is {}x{}x{} but the case grid is {}x{}x{}", name,
+                                     dims[2], dims[1], dims[0], g.cells[0], g.cells[1],
                                      g.cells[2]));
     }
-    std::vector<double> buf(std::size_t(dec_.block().count()));
+    BoxSpace s(dec_, f);
+    std::vector<double> buf(std::size_t(std::max<std::int64_t>(0, f.owned().count())));
     H5Dread(dset, H5T_NATIVE_DOUBLE, s.mspace, s.fspace, xfer_, buf.data());
     H5Dclose(dset);
     std::size_t c = 0;
-    for_each_cell(dec_.block().cells, [&](int i, int j, int k) { f(i, j, k) = buf[c++]; });
+    for_each_in(f.owned(), [&](int i, int j, int k) { f(i, j, k) = buf[c++]; });
 }
 
 bool Hdf5File::has(const std::string& name) const {

@@ -28,7 +28,8 @@ class Hdf5File {
                     const Int3& count, int ncomp, const std::vector<double>& values);
     void write_flat(const std::string& name, const Int3& global_points, const Int3& offset,
                     const Int3& count, int ncomp, const std::vector<std::int64_t>& values);
-    /// The owned values of a field as a 3D dataset [nz][ny][nx].
+    /// The owned values of a field (its block, or its patch) into a global 3D dataset
+    /// [nz][ny][nx]; points outside every rank's box read back as 0 (the fill value).
     void write_block(const std::string& name, const Field& f);
     void read_block(const std::string& name, Field& f);
     bool has(const std::string& name) const;

@@ -73,8 +73,10 @@ class StructuredSolver {
         assemble_operator();
     }
 
-    /// Solve A x = b over the owned block; x holds the initial guess on entry.
-    SolveReport solve(const Field& rhs, Field& x);
+    /// Solve A x = b over the owned block; x holds the initial guess on entry. The solve
+    /// stops at ||r|| <= max(tolerance ||b||, absolute_tolerance) (Krylov methods), so a
+    /// right-hand side that is only round-off does not run to the iteration cap.
+    SolveReport solve(const Field& rhs, Field& x, real absolute_tolerance = 0);
 
     const LinearSolverSettings& settings() const { return settings_; }
 

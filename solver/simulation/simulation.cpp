@@ -25,7 +25,15 @@ Simulation::Simulation(const Config& config, const RunOptions& options, MPI_Comm
     halos_ = std::make_unique<HaloFiller>(*dec_, cfg_.boundaries);
     state_ = std::make_unique<FlowState>(dec_->block(), dec_->dim());
     set_initial_condition(cfg_, *dec_, *state_);
-    if (!opt_.restart_file.empty()) read_checkpoint(opt_.restart_file, *dec_, *state_, clock_);
+    // Bodies exist only when the case has some: no body, no body fields, no body work.
+    if (!cfg_.bodies.empty()) bodies_ = std::make_unique<BodySystem>(cfg_, *dec_, *halos_);
+    if (!opt_.restart_file.empty()) {
+        read_checkpoint(opt_.restart_file, *dec_, *state_, clock_, body_list());
+        for (Body* b : body_list())
+            halos_->fill(b->phi(), b->patch());
+    } else if (bodies_) {
+        bodies_->initialise();
+    }
     halos_->fill(state_->p);
     halos_->fill(state_->mu);
     halos_->fill(state_->u);
@@ -34,14 +42,28 @@ Simulation::Simulation(const Config& config, const RunOptions& options, MPI_Comm
     if (dec_->rank() == 0) {
         fs::create_directories(opt_.output_dir);
         std::ofstream(opt_.output_dir / "case.toml") << cfg_.resolved_toml << "\n";
-        if (opt_.restart_file.empty())
+        // Fresh files on a new run; a restart appends, but starts the files if absent.
+        if (opt_.restart_file.empty() || !fs::exists(opt_.output_dir / "diagnostics.csv")) {
             std::ofstream(opt_.output_dir / "diagnostics.csv") << Diagnostics::csv_header() << "\n";
+            if (bodies_)
+                std::ofstream(opt_.output_dir / "bodies.csv")
+                    << "step,time,body,volume,centroid_x,centroid_y,centroid_z,phi_min,phi_max,"
+                       "clipped_volume,patch_cells,bytes\n";
+        }
     }
     dec_->barrier();
     if (cfg_.output.fields) fields_ = std::make_unique<FieldOutput>(opt_.output_dir, *dec_);
 }
 
 Simulation::~Simulation() = default;
+
+std::vector<Body*> Simulation::body_list() const {
+    std::vector<Body*> out;
+    if (bodies_)
+        for (auto& b : bodies_->bodies())
+            out.push_back(b.get());
+    return out;
+}
 
 void Simulation::log(const std::string& line) const {
     if (dec_->rank() == 0 && !opt_.quiet) std::cout << line << std::endl;
@@ -58,7 +80,8 @@ void Simulation::check_stability(const TimeStepChoice& choice) {
     else if (choice.cfl > cfg_.stability.max_cfl)
         why = fmt::format("CFL = {:.3f} exceeds stability.max_cfl = {:.3f}", choice.cfl,
                           cfg_.stability.max_cfl);
-    else if (choice.dt < 1e-14 * cfg_.time.end_time)
+    else if (choice.dt < 1e-14 * cfg_.time.end_time &&
+             s.time < cfg_.time.end_time * (1 - 1e-12)) // not the round-off left at the end
         why = fmt::format("the time step collapsed to {:.3e} s", choice.dt);
     if (why.empty()) return;
     const std::string where = locate_worst_velocity(*dec_, s);
@@ -80,6 +103,18 @@ void Simulation::write_outputs_if_due(bool final_step) {
             if (dec_->rank() == 0)
                 std::ofstream(opt_.output_dir / "diagnostics.csv", std::ios::app)
                     << last_.csv_row() << "\n";
+            if (bodies_) {
+                last_bodies_ = bodies_->measure();
+                if (dec_->rank() == 0) {
+                    std::ofstream out(opt_.output_dir / "bodies.csv", std::ios::app);
+                    for (const auto& b : last_bodies_)
+                        out << fmt::format("{},{:.10e},{},{:.12e},{:.10e},{:.10e},{:.10e},{:.6e},"
+                                           "{:.6e},{:.3e},{},{}\n",
+                                           s.step, s.time, b.name, b.volume, b.centroid[0],
+                                           b.centroid[1], b.centroid[2], b.phi_min, b.phi_max,
+                                           b.clipped_volume, b.patch_cells, b.bytes);
+                }
+            }
         });
     }
     if (fields_) {
@@ -87,7 +122,12 @@ void Simulation::write_outputs_if_due(bool final_step) {
         const bool due =
             final_step || (interval > 0 && s.time >= clock_.next_fields_time - 1e-12 * interval);
         if (due || (s.step == 0)) {
-            timers_.time("output", [&] { fields_->write(s); });
+            timers_.time("output", [&] {
+                std::vector<const Body*> bodies;
+                for (Body* b : body_list())
+                    bodies.push_back(b);
+                fields_->write(s, bodies);
+            });
             if (interval > 0)
                 while (clock_.next_fields_time <= s.time + 1e-12 * interval)
                     clock_.next_fields_time += interval;
@@ -96,7 +136,7 @@ void Simulation::write_outputs_if_due(bool final_step) {
     const int every = cfg_.output.checkpoint_every;
     if (final_step || (every > 0 && s.step % every == 0 && s.step > 0))
         timers_.time("checkpoint", [&] {
-            write_checkpoint(opt_.output_dir / "checkpoint.h5", *dec_, s, clock_);
+            write_checkpoint(opt_.output_dir / "checkpoint.h5", *dec_, s, clock_, body_list());
         });
 }
 
@@ -115,6 +155,11 @@ int Simulation::run() {
             const TimeStepChoice choice = choose_time_step(cfg_, *dec_, s);
             check_stability(choice);
             const StepReport r = stepper_->step(s, choice.dt, timers_);
+            if (bodies_) {
+                // The bodies move with the new velocity (its halos are refreshed first).
+                timers_.time("halo", [&] { halos_->fill(s.u); });
+                bodies_->advance(s.u, choice.dt, s.step, timers_);
+            }
             ++steps_this_run_;
             last_.dt = choice.dt;
             last_.cfl = choice.cfl;
@@ -195,6 +240,16 @@ void Simulation::write_summary(double wall_seconds, const std::string& status,
                   {"pressure_residual", d.pressure_residual},
                   {"viscous_iterations", d.viscous_iterations}};
     j["restarted_from"] = opt_.restart_file.string();
+    nlohmann::json bodies = nlohmann::json::array();
+    for (const auto& b : last_bodies_)
+        bodies.push_back({{"name", b.name},
+                          {"volume", b.volume},
+                          {"centroid", b.centroid},
+                          {"phi_min", b.phi_min},
+                          {"phi_max", b.phi_max},
+                          {"patch_cells", b.patch_cells},
+                          {"bytes", b.bytes}});
+    j["bodies"] = bodies;
     std::ofstream(opt_.output_dir / "summary.json") << j.dump(2) << "\n";
 }
 

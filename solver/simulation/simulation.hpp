@@ -2,6 +2,7 @@
 // to the end time writing diagnostics, snapshots, checkpoints and the summary.
 #pragma once
 
+#include "bodies/body_system.hpp"
 #include "boundary/boundary.hpp"
 #include "config/config.hpp"
 #include "io/checkpoint.hpp"
@@ -40,6 +41,7 @@ class Simulation {
     void write_summary(double wall_seconds, const std::string& status,
                        const std::string& message) const;
     void log(const std::string& line) const;
+    std::vector<Body*> body_list() const;
 
     Config cfg_;
     RunOptions opt_;
@@ -48,6 +50,8 @@ class Simulation {
     std::unique_ptr<FlowState> state_;
     std::unique_ptr<SmacStepper> stepper_;
     std::unique_ptr<class FieldOutput> fields_;
+    std::unique_ptr<BodySystem> bodies_; ///< null when the case has no body
+    std::vector<BodyDiagnostics> last_bodies_;
     StageTimers timers_;
     RunClock clock_;
     Diagnostics last_;

@@ -3,6 +3,7 @@
 #include "operators/flow_operators.hpp"
 
 #include <algorithm>
+#include <cmath>
 
 namespace efsi {
 
@@ -169,9 +170,14 @@ SolveReport SmacStepper::pressure_solve(real dt) {
     const GlobalGrid& g = dec_.grid();
     halos_.fill(ustar_);
     const real scale = cfg_.fluid.density / dt;
+    real speed = 0;
     for_each_cell(dec_.block().cells, [&](int i, int j, int k) {
         rhs_(i, j, k) = -scale * divergence_at(ustar_, g, {i, j, k});
+        for (int c = 0; c < ustar_.dim; ++c)
+            speed = std::max(speed, std::abs(ustar_[c](i, j, k)));
     });
+    // A divergence at round-off level of |v*|/h cannot be reduced further: stop there.
+    const real floor = 1e-13 * scale * dec_.max(speed) / g.dx(0) * std::sqrt(real(g.total_cells()));
     // With no Dirichlet pressure anywhere the operator is singular: make the right-hand
     // side compatible (zero mean), start from zero.
     const real mean = mean_over_block(dec_, rhs_);
@@ -179,7 +185,7 @@ SolveReport SmacStepper::pressure_solve(real dt) {
         rhs_(i, j, k) -= mean;
         phi_(i, j, k) = 0;
     });
-    return pressure_->solve(rhs_, phi_);
+    return pressure_->solve(rhs_, phi_, floor);
 }
 
 void SmacStepper::correction(FlowState& s, real dt) {

@@ -75,6 +75,16 @@ TimeStepChoice choose_time_step(const Config& cfg, const Decomposition& dec, con
     }
     if (fmag > 0) consider(std::sqrt(hmin * cfg.fluid.density / std::sqrt(fmag)), "body force");
     if (extra_limit > 0) consider(extra_limit, extra_name.c_str());
+    // The split VOF advection of bodies needs every face Courant number below 1/2: cap it
+    // at 0.45 whatever time.cfl is (the limit is divided by cfl, which multiplies below).
+    if (!cfg.bodies.empty() && advective_rate > 0) {
+        real speed = std::max(out.max_speed, 0.0);
+        for (int d = 0; d < 3; ++d)
+            for (int side = 0; side < 2; ++side)
+                for (int c = 0; c < g.dim; ++c)
+                    speed = std::max(speed, std::abs(cfg.boundaries[d][side].velocity[c]));
+        if (speed > 0) consider(0.45 * hmin / speed / cfg.time.cfl, "vof courant");
+    }
 
     real dt = cfg.time.fixed_dt > 0 ? cfg.time.fixed_dt : cfg.time.cfl * best;
     if (cfg.time.fixed_dt > 0) out.limited_by = "fixed";

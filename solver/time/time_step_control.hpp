@@ -3,7 +3,8 @@
 //   advective   dt_a = 1 / max over faces of sum_d |u_d| / dx_d (wall speeds included)
 //   viscous     dt_v = rho / (2 mu_max sum_d 1/dx_d^2)       (explicit viscous term only)
 //   body force  dt_f = sqrt(dx_min rho / |f|)
-//   dt = cfl * min(dt_a, dt_v, dt_f), capped by time.dt_max and by the end time.
+//   dt = cfl * min(dt_a, dt_v, dt_f), capped by time.dt_max and by the end time; with
+//   bodies, also by a face Courant number of 0.45 (the split VOF advection needs < 1/2).
 // Later physics (solids, membranes) add their own limits through `extra_limit`.
 #pragma once
 

@@ -1,0 +1,205 @@
+#include "bodies/body_system.hpp"
+
+#include "core/error.hpp"
+#include "interface/shapes.hpp"
+#include "io/hdf5_file.hpp"
+
+#include <fmt/core.h>
+
+#include <cmath>
+#include <limits>
+
+namespace efsi {
+
+namespace {
+
+std::unique_ptr<Shape> make_shape(const BodyConfig& b) {
+    const Matrix3 rot = b.angle != 0 ? axis_angle_rotation(b.axis, b.angle) : identity_rotation();
+    if (b.shape == "sphere") return make_sphere(b.centre, b.radius);
+    if (b.shape == "ellipsoid") return make_ellipsoid(b.centre, b.semi_axes, rot);
+    if (b.shape == "biconcave") {
+        EvansFungCoefficients k;
+        k.r0 = b.radius;
+        return make_biconcave_disc(b.centre, rot, k);
+    }
+    if (b.shape == "cylinder") return make_cylinder(b.centre, b.radius, rot);
+    if (b.shape == "box") return make_box(b.centre, b.half_sizes, rot);
+    if (b.shape == "slab") return make_slab(b.centre, b.normal, b.thickness);
+    return nullptr; // mask
+}
+
+BodyKind kind_of(const BodyConfig& b) {
+    return b.kind == "membrane" ? BodyKind::Membrane : BodyKind::Solid;
+}
+
+/// Every cell with phi above this counts as occupied when fitting a patch: 0, so a patch
+/// never drops volume (VOF residues below its epsilon do not move, so tails cannot creep).
+constexpr real occupied_threshold = 0;
+
+} // namespace
+
+BodySystem::BodySystem(const Config& config, const Decomposition& dec, const HaloFiller& halos)
+    : cfg_(config), dec_(dec), halos_(halos) {
+    VofOptions vo;
+    vo.scheme = parse_vof_scheme(config.vof.scheme);
+    vo.beta_thinc = config.vof.beta_thinc;
+    vo.beta_mthinc = config.vof.beta_mthinc;
+    for (const BodyConfig& b : config.bodies) {
+        bodies_.push_back(
+            std::make_unique<Body>(b.name, kind_of(b), b.bending, dec.dim(), b.kind != "passive"));
+        vof_.push_back(std::make_unique<VofAdvection>(halos, vo));
+        transport_.push_back(std::make_unique<BodyTransport>(halos));
+        clipped_.push_back(0);
+    }
+}
+
+BodySystem::~BodySystem() = default;
+
+void BodySystem::initialise() {
+    for (std::size_t i = 0; i < bodies_.size(); ++i)
+        initialise_body(i);
+    track_patches(true);
+}
+
+void BodySystem::initialise_body(std::size_t i) {
+    const BodyConfig& bc = cfg_.bodies[i];
+    Body& body = *bodies_[i];
+    const GlobalGrid& g = dec_.grid();
+    // Start on the whole grid (a mask or slab may be anywhere); track_patches() then
+    // shrinks the patch to the body plus its margin before any step is taken.
+    body.allocate(make_patch(Box{{0, 0, 0}, g.cells}, dec_));
+    Field& phi = body.phi();
+    if (bc.shape == "mask") {
+        const auto file = std::filesystem::path(bc.mask_file).is_absolute()
+                              ? std::filesystem::path(bc.mask_file)
+                              : cfg_.case_dir / bc.mask_file;
+        if (!std::filesystem::exists(file))
+            throw InputError(
+                fmt::format("body '{}': mask_file {} does not exist", bc.name, file.string()));
+        Hdf5File f(file, Hdf5File::Mode::Read, dec_);
+        if (!f.has(bc.mask_dataset))
+            throw InputError(fmt::format("body '{}': {} has no dataset '{}'", bc.name,
+                                         file.string(), bc.mask_dataset));
+        f.read_block(bc.mask_dataset, phi);
+        for_each_in(phi.owned(), [&](int a, int b, int c) {
+            phi(a, b, c) = std::clamp(phi(a, b, c), 0.0, 1.0);
+        });
+    } else {
+        const auto shape = make_shape(bc);
+        if (bc.interface == "smoothed") {
+            // phi = (1 - tanh(L / eps)) / 2, L the shape's distance-like level function.
+            const real eps = bc.smoothing_width * g.dx(0);
+            for_each_in(phi.owned(), [&](int a, int b, int c) {
+                const Real3 x = position(g, dec_.block(), Location::Cell, a, b, c);
+                const real v = 0.5 * (1 - std::tanh(shape->level(x) / eps));
+                phi(a, b, c) = v < 1e-8 ? 0.0 : v; // the tail is cut ~9 eps out
+            });
+        } else {
+            initial_volume_fraction(*shape, g, dec_.block(), phi, bc.subsamples);
+        }
+    }
+    halos_.fill(phi, body.patch());
+}
+
+Box BodySystem::occupied_box(const Body& b) const {
+    const int big = std::numeric_limits<int>::max() / 2;
+    std::array<real, 6> ext{real(big), real(big), real(big), real(-big), real(-big), real(-big)};
+    const Int3 off = dec_.block().offset;
+    if (!b.patch().empty())
+        for_each_in(b.phi().owned(), [&](int i, int j, int k) {
+            if (b.phi()(i, j, k) <= occupied_threshold) return;
+            const Int3 p{i + off[0], j + off[1], k + off[2]};
+            for (int d = 0; d < 3; ++d) {
+                ext[d] = std::min(ext[d], real(p[d]));
+                ext[3 + d] = std::max(ext[3 + d], real(p[d] + 1));
+            }
+        });
+    Box box;
+    for (int d = 0; d < 3; ++d) {
+        box.lo[d] = int(dec_.min(ext[d]));
+        box.hi[d] = int(dec_.max(ext[3 + d]));
+    }
+    return box;
+}
+
+void BodySystem::track_patches(bool force) {
+    for (std::size_t i = 0; i < bodies_.size(); ++i) {
+        Body& body = *bodies_[i];
+        const int m = cfg_.bodies[i].margin;
+        Box occ = occupied_box(body);
+        if (occ.empty()) {
+            if (dec_.rank() == 0 && force)
+                fmt::print("warning: body '{}' occupies no cell\n", body.name());
+            continue;
+        }
+        // Move when the body comes within m/2 cells of its patch edge (or when forced).
+        Box needed = occ, wanted = occ;
+        for (int d = 0; d < dec_.dim(); ++d) {
+            needed.lo[d] -= m / 2;
+            needed.hi[d] += m / 2;
+            wanted.lo[d] -= m;
+            wanted.hi[d] += m;
+        }
+        const Patch candidate = make_patch(needed, dec_);
+        if (!force && body.patch().global.contains(candidate.global)) continue;
+        body.move_to(make_patch(wanted, dec_));
+        halos_.fill(body.phi(), body.patch());
+    }
+}
+
+void BodySystem::advance(const VelocityField& u, real dt, long step, StageTimers& timers) {
+    for (std::size_t i = 0; i < bodies_.size(); ++i) {
+        Body& body = *bodies_[i];
+        // The tensors first, with the velocity gradient of this step; then phi.
+        if (!body.tensor().comp.empty())
+            timers.time("bodies_tensor", [&] { transport_[i]->advance(body, u, dt); });
+        timers.time("bodies_vof", [&] {
+            const VofStepStats st = vof_[i]->advance(body.phi(), u, dt, step, &body.patch());
+            clipped_[i] = st.clipped_volume;
+        });
+    }
+    timers.time("bodies_patches", [&] { track_patches(false); });
+}
+
+real BodySystem::vof_time_step_limit(const GlobalGrid& g, real max_speed) {
+    real h = g.dx(0);
+    for (int d = 1; d < g.dim; ++d)
+        h = std::min(h, g.dx(d));
+    return max_speed > 0 ? 0.45 * h / max_speed : 0.0;
+}
+
+std::vector<BodyDiagnostics> BodySystem::measure() const {
+    const GlobalGrid& g = dec_.grid();
+    std::vector<BodyDiagnostics> out;
+    for (std::size_t i = 0; i < bodies_.size(); ++i) {
+        const Body& b = *bodies_[i];
+        BodyDiagnostics d;
+        d.name = b.name();
+        real v = 0, lo = 1, hi = 0;
+        Real3 m{0, 0, 0};
+        if (!b.patch().empty())
+            for_each_in(b.phi().owned(), [&](int a, int bb, int c) {
+                const real p = b.phi()(a, bb, c);
+                const Real3 x = position(g, dec_.block(), Location::Cell, a, bb, c);
+                v += p;
+                for (int k = 0; k < 3; ++k)
+                    m[k] += p * x[k];
+                lo = std::min(lo, p);
+                hi = std::max(hi, p);
+            });
+        v = dec_.sum(v);
+        for (int k = 0; k < 3; ++k)
+            d.centroid[k] = v > 0 ? dec_.sum(m[k]) / v : 0.0;
+        d.volume = v * g.cell_volume();
+        d.phi_min = dec_.min(lo);
+        d.phi_max = dec_.max(hi);
+        d.patch_cells =
+            dec_.sum(std::int64_t(b.patch().local.empty() ? 0 : b.patch().local.count()));
+        d.bytes = dec_.sum(std::int64_t(b.bytes()));
+        d.clipped_volume = clipped_[i];
+        out.push_back(d);
+    }
+    return out;
+}
+
+} // namespace efsi

@@ -1,0 +1,62 @@
+// All the bodies of a run: created from the case's [[body]] sections, carried by the flow
+// (VOF for phi, upper-convected transport for B / Gs, kappa_R), kept on patches that
+// follow them, and measured. Every method is collective (all ranks call it).
+#pragma once
+
+#include "bodies/body.hpp"
+#include "bodies/transport.hpp"
+#include "boundary/boundary.hpp"
+#include "config/config.hpp"
+#include "interface/vof_advection.hpp"
+#include "time/stage_timers.hpp"
+
+#include <memory>
+#include <string>
+#include <vector>
+
+namespace efsi {
+
+struct BodyDiagnostics {
+    std::string name;
+    real volume = 0;         ///< sum phi dV [m^3]
+    Real3 centroid{0, 0, 0}; ///< sum phi x dV / volume [m] (not unwrapped across periodic seams)
+    real phi_min = 0, phi_max = 0;
+    std::int64_t patch_cells = 0; ///< cells of the body's patch (all ranks)
+    std::int64_t bytes = 0;       ///< memory of the body's fields (all ranks)
+    real clipped_volume = 0;      ///< VOF clipping of the last step [m^3]
+};
+
+class BodySystem {
+  public:
+    BodySystem(const Config& config, const Decomposition& dec, const HaloFiller& halos);
+    ~BodySystem();
+
+    /// phi (and the tensors at identity / P_R) from each body's shape or mask.
+    void initialise();
+    /// Carry every body by the face velocity u (halos filled) over dt.
+    void advance(const VelocityField& u, real dt, long step, StageTimers& timers);
+    /// Re-fit every patch to its body (after initialisation, restart, or motion).
+    void track_patches(bool force = false);
+
+    std::vector<BodyDiagnostics> measure() const;
+    /// Largest time step the VOF advection accepts: 0.45 min(dx) / max|u| (0 = no limit).
+    static real vof_time_step_limit(const GlobalGrid& g, real max_speed);
+
+    std::vector<std::unique_ptr<Body>>& bodies() { return bodies_; }
+    const std::vector<std::unique_ptr<Body>>& bodies() const { return bodies_; }
+    bool empty() const { return bodies_.empty(); }
+
+  private:
+    Box occupied_box(const Body& b) const;
+    void initialise_body(std::size_t i);
+
+    const Config& cfg_;
+    const Decomposition& dec_;
+    const HaloFiller& halos_;
+    std::vector<std::unique_ptr<Body>> bodies_;
+    std::vector<std::unique_ptr<VofAdvection>> vof_;
+    std::vector<std::unique_ptr<BodyTransport>> transport_;
+    std::vector<real> clipped_;
+};
+
+} // namespace efsi

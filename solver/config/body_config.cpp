@@ -1,0 +1,127 @@
+#include "config/body_config.hpp"
+
+#include "config/reader.hpp"
+#include "core/error.hpp"
+
+#include <fmt/core.h>
+
+#include <algorithm>
+#include <cmath>
+#include <set>
+
+namespace efsi {
+
+namespace {
+
+/// Half-extent of the shape's bounding box about its centre (conservative when rotated);
+/// negative entries mean "unbounded along that direction" (slab, cylinder axis).
+Real3 half_extent(const BodyConfig& b, int dim) {
+    const real inf = -1;
+    if (b.shape == "sphere") return {b.radius, b.radius, b.radius};
+    if (b.shape == "ellipsoid") {
+        const real m = std::max({b.semi_axes[0], b.semi_axes[1], b.semi_axes[2]});
+        return {m, m, m};
+    }
+    if (b.shape == "biconcave") return {b.radius, b.radius, b.radius};
+    if (b.shape == "cylinder") return {b.radius, b.radius, dim == 2 ? b.radius : inf};
+    if (b.shape == "box") {
+        const real m = std::hypot(b.half_sizes[0], b.half_sizes[1], b.half_sizes[2]);
+        return {m, m, m};
+    }
+    return {inf, inf, inf}; // slab, mask: checked otherwise
+}
+
+} // namespace
+
+std::vector<BodyConfig> read_bodies(TableReader& top, const GlobalGrid& grid,
+                                    const std::array<bool, 3>& periodic) {
+    std::vector<BodyConfig> bodies;
+    std::set<std::string> names;
+    for (TableReader& r : top.tables("body", "the bodies: one [[body]] section each")) {
+        BodyConfig b;
+        b.name = r.string("name", std::nullopt, {}, "unique name (used in output names)");
+        b.kind = r.string("kind", "passive", {"passive", "solid", "membrane"},
+                          "passive (phi only), solid (carries B) or membrane (carries Gs)");
+        b.bending = r.boolean("bending", false, "membrane: carry the reference curvature kappa_R");
+        b.shape = r.string("shape", std::nullopt,
+                           {"sphere", "ellipsoid", "biconcave", "cylinder", "box", "slab", "mask"},
+                           "initial shape");
+        b.centre = r.vector3("centre", Real3{0, 0, 0}, Range{}, "m", "centre of the shape");
+        b.radius = r.number("radius", 0.0, Range::non_negative(), "m",
+                            "sphere / cylinder radius; biconcave R0 (default 3.91e-6)");
+        b.semi_axes = r.vector3("semi_axes", Real3{0, 0, 0}, Range::non_negative(), "m",
+                                "ellipsoid semi-axes along the body axes");
+        b.half_sizes = r.vector3("half_sizes", Real3{0, 0, 0}, Range::non_negative(), "m",
+                                 "box half-sizes along the body axes");
+        b.normal = r.vector3("normal", Real3{0, 1, 0}, Range{}, "-", "slab normal");
+        b.thickness = r.number("thickness", 0.0, Range::non_negative(), "m", "slab thickness");
+        b.axis = r.vector3("axis", Real3{0, 0, 1}, Range{}, "-", "orientation: rotation axis");
+        b.angle = r.number("angle", 0.0, Range{}, "rad", "orientation: rotation angle about axis");
+        b.mask_file = r.string("mask_file", "", {}, "mask: HDF5 file, relative to the case folder");
+        b.mask_dataset = r.string("mask_dataset", "mask", {},
+                                  "mask: dataset [nz][ny][nx] of cell volume fractions in [0,1]");
+        b.interface = r.string("interface", "sharp", {"sharp", "smoothed"},
+                               "sharp: exact cell volume fractions; smoothed: tanh profile "
+                               "(the membrane's smoothed VOF)");
+        b.smoothing_width = r.number("smoothing_width", 1.0, Range::positive(), "cells",
+                                     "smoothed: width eps of phi = (1 - tanh(L/eps))/2");
+        b.subsamples = r.integer("subsamples", 8, Range::closed(1, 64),
+                                 "sharp: sub-samples per direction in the cells the surface cuts");
+        b.margin = r.integer("margin", 4, Range::closed(2, 1000),
+                             "cells kept around the body on its patch");
+        r.finish();
+        if (KeyCatalogue::instance().documenting) continue;
+
+        const std::string at = fmt::format("body '{}'", b.name);
+        if (!names.insert(b.name).second) throw InputError(at + ": the name is used twice");
+        if (b.shape == "biconcave" && b.radius == 0) b.radius = 3.91e-6;
+        auto need = [&](bool ok, const char* key) {
+            if (!ok)
+                throw InputError(fmt::format("{}: shape '{}' needs body.{} > 0", at, b.shape, key));
+        };
+        if (b.shape == "sphere" || b.shape == "cylinder") need(b.radius > 0, "radius");
+        if (b.shape == "ellipsoid")
+            need(b.semi_axes[0] > 0 && b.semi_axes[1] > 0 && b.semi_axes[2] > 0, "semi_axes");
+        if (b.shape == "box")
+            need(b.half_sizes[0] > 0 && b.half_sizes[1] > 0 && b.half_sizes[2] > 0, "half_sizes");
+        if (b.shape == "slab") need(b.thickness > 0, "thickness");
+        if (b.shape == "mask" && b.mask_file.empty())
+            throw InputError(at + ": shape 'mask' needs body.mask_file");
+        if (b.kind != "membrane" && b.bending)
+            throw InputError(at + ": bending = true is only for kind = \"membrane\"");
+        if (b.interface == "smoothed" && b.shape != "sphere" && b.shape != "cylinder" &&
+            b.shape != "ellipsoid")
+            throw InputError(at + ": interface = \"smoothed\" needs a sphere, cylinder or "
+                                  "ellipsoid (shapes with a distance-like level function)");
+        // A body must lie inside the box along walled directions, and meet the box at all.
+        const Real3 h = half_extent(b, grid.dim);
+        for (int d = 0; d < grid.dim; ++d) {
+            if (h[d] < 0) continue;
+            const real lo = grid.origin[d], hi = grid.origin[d] + grid.length[d];
+            const real a = b.centre[d] - h[d], z = b.centre[d] + h[d];
+            const bool outside = z <= lo || a >= hi;
+            const bool crosses_wall = !periodic[d] && (a < lo || z > hi);
+            if (outside || crosses_wall)
+                throw InputError(fmt::format(
+                    "{}: body.centre / size: the {} reaches {} from {:.4g} to {:.4g} m in {}, "
+                    "outside the domain [{:.4g}, {:.4g}]",
+                    at, b.shape, outside ? "entirely" : "through a wall", a, z, "xyz"[d], lo, hi));
+        }
+        bodies.push_back(b);
+    }
+    return bodies;
+}
+
+VofConfig read_vof(TableReader& top) {
+    TableReader r = top.sub("vof", "VOF transport of the bodies' volume fractions");
+    VofConfig v;
+    v.scheme = r.string("scheme", "mthinc", {"mthinc", "thinc"},
+                        "mthinc (multidimensional, planar) or thinc (1D per sweep)");
+    v.beta_thinc = r.number("beta_thinc", 3.5, Range::positive(), "-", "1D THINC sharpness");
+    v.beta_mthinc = r.number("beta_mthinc", 2.0, Range::positive(), "-",
+                             "MTHINC sharpness along the normal (unit-cell coordinates)");
+    r.finish();
+    return v;
+}
+
+} // namespace efsi

@@ -1,0 +1,47 @@
+// Case-file description of the bodies ([[body]] sections) and of their VOF transport.
+#pragma once
+
+#include "core/types.hpp"
+#include "grid/grid.hpp"
+
+#include <string>
+#include <vector>
+
+namespace efsi {
+
+class TableReader;
+
+struct BodyConfig {
+    std::string name;
+    std::string kind = "passive"; ///< passive (phi only) | solid (B) | membrane (Gs)
+    bool bending = false;         ///< membrane only: carry kappa_R
+    std::string shape;            ///< sphere | ellipsoid | biconcave | cylinder | box | slab | mask
+    Real3 centre{0, 0, 0};        ///< [m]
+    real radius = 0;              ///< sphere, cylinder; biconcave R0 [m]
+    Real3 semi_axes{0, 0, 0};     ///< ellipsoid [m]
+    Real3 half_sizes{0, 0, 0};    ///< box [m]
+    Real3 normal{0, 1, 0};        ///< slab normal
+    real thickness = 0;           ///< slab [m]
+    Real3 axis{0, 0, 1};          ///< orientation: rotation axis
+    real angle = 0;               ///< orientation: rotation angle [rad]
+    std::string mask_file;        ///< mask: HDF5 file (relative to the case folder)
+    std::string mask_dataset = "mask"; ///< mask: dataset [nz][ny][nx] of values in [0,1]
+    std::string interface = "sharp";   ///< sharp (cell volume fractions) | smoothed (tanh profile)
+    real smoothing_width = 1.0;        ///< smoothed: eps of the tanh profile, in cells
+    int subsamples = 8;                ///< sharp: sub-samples per direction in cut cells
+    int margin = 4;                    ///< cells kept around the body on its patch
+};
+
+struct VofConfig {
+    std::string scheme = "mthinc"; ///< mthinc | thinc
+    real beta_thinc = 3.5;
+    real beta_mthinc = 2.0;
+};
+
+/// Read and check the [[body]] sections against the grid (a body outside the domain is an
+/// error naming it). Called by the case reader.
+std::vector<BodyConfig> read_bodies(TableReader& top, const GlobalGrid& grid,
+                                    const std::array<bool, 3>& periodic);
+VofConfig read_vof(TableReader& top);
+
+} // namespace efsi
