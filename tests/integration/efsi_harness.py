@@ -1,0 +1,77 @@
+"""Shared driver for the end-to-end tests: run bin/efsi (serially or under mpiexec) on a
+case with --set overrides, read its HDF5 outputs, and fail with a readable message.
+
+Every script takes --efsi, --mpiexec, --cases and --output (a folder of its own, so the
+scripts can run concurrently under ctest -j)."""
+import argparse
+import os
+import shutil
+import subprocess
+import sys
+
+import h5py
+import numpy as np
+
+TWO_PI = 6.283185307179586
+
+
+def parse_args():
+    p = argparse.ArgumentParser(description=__doc__)
+    p.add_argument("--efsi", required=True)
+    p.add_argument("--mpiexec", default="mpiexec")
+    p.add_argument("--cases", required=True)
+    p.add_argument("--output", required=True)
+    a = p.parse_args()
+    shutil.rmtree(a.output, ignore_errors=True)
+    os.makedirs(a.output)
+    return a
+
+
+def run(args, case, out=None, ranks=1, sets=(), extra=(), command="run", expect=0):
+    """Run efsi; returns the CompletedProcess. `expect` is the required exit code (None: any)."""
+    cmd = [] if ranks == 1 else [args.mpiexec, "-np", str(ranks), "--oversubscribe"]
+    case_path = case if os.path.isabs(case) else os.path.join(args.cases, case)
+    cmd += [args.efsi, command, case_path]
+    if out is not None:
+        cmd += ["--output", out]
+    if command == "run":
+        cmd += ["--quiet"]
+    for s in sets:
+        cmd += ["--set", s]
+    cmd += list(extra)
+    env = dict(os.environ, OMPI_ALLOW_RUN_AS_ROOT="1", OMPI_ALLOW_RUN_AS_ROOT_CONFIRM="1")
+    proc = subprocess.run(cmd, capture_output=True, text=True, env=env, timeout=100)
+    if expect is not None and proc.returncode != expect:
+        fail(f"{' '.join(cmd)}\nexited {proc.returncode}, expected {expect}\n"
+             f"stdout:\n{proc.stdout[-3000:]}\nstderr:\n{proc.stderr[-3000:]}")
+    return proc
+
+
+def datasets(path):
+    """Every dataset of an HDF5 file as {name: array}."""
+    out = {}
+    with h5py.File(path, "r") as f:
+        def visit(name, obj):
+            if isinstance(obj, h5py.Dataset):
+                out[name] = obj[()]
+        f.visititems(visit)
+        for k, v in f.attrs.items():
+            out["@" + k] = np.asarray(v)
+    return out
+
+
+def tg_grid(n):
+    """--set overrides for an n x n 2D Taylor-Green grid (cubic cells)."""
+    return [f"grid.cells=[{n}, {n}, 1]",
+            f"grid.length=[{TWO_PI!r}, {TWO_PI!r}, {TWO_PI / n!r}]"]
+
+
+def fail(msg):
+    print("FAIL:", msg)
+    sys.exit(1)
+
+
+def check(cond, msg):
+    if not cond:
+        fail(msg)
+    print("ok:", msg)

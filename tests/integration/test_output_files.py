@@ -1,0 +1,43 @@
+"""The output folder: meshio reads fields/fields.xdmf as a time series with cell data of
+the right shape (2D on 2 ranks, 3D), diagnostics.csv has its header and rows, and
+summary.json holds the documented keys."""
+import csv
+import json
+import os
+
+import meshio
+
+from efsi_harness import check, parse_args, run, tg_grid
+
+args = parse_args()
+setups = {
+    "tg2d": ("taylor_green", 2, tg_grid(16) + ["time.end_time=0.4", "output.fields_interval=0.2"],
+             16 * 16),
+    "box3d": ("lid_cavity", 1, ["grid.cells=[6, 5, 4]", "grid.length=[1.2, 1.0, 0.8]",
+                                "boundary.z_low=wall", "boundary.z_high=wall", "time.max_steps=3"],
+              6 * 5 * 4),
+}
+for name, (case, ranks, sets, ncells) in setups.items():
+    out = os.path.join(args.output, name)
+    run(args, case, out, ranks=ranks, sets=sets)
+    with meshio.xdmf.TimeSeriesReader(os.path.join(out, "fields", "fields.xdmf")) as reader:
+        points, cells = reader.read_points_cells()
+        check(sum(len(c.data) for c in cells) == ncells, f"{name}: mesh has {ncells} cells")
+        check(reader.num_steps >= 2, f"{name}: {reader.num_steps} snapshots")
+        for k in range(reader.num_steps):
+            t, point_data, cell_data = reader.read_data(k)
+            p, vel = cell_data["pressure"][0], cell_data["velocity"][0]
+            check(p.shape in [(ncells,), (ncells, 1)] and vel.shape == (ncells, 3),
+                  f"{name} t = {t:.3g}: pressure {p.shape}, velocity {vel.shape}")
+    with open(os.path.join(out, "diagnostics.csv")) as f:
+        rows = list(csv.DictReader(f))
+    check(len(rows) >= 2 and "max_divergence" in rows[0], f"{name}: {len(rows)} diagnostics rows")
+    check(max(float(r["max_divergence"]) for r in rows) < 1e-8, f"{name}: divergence-free")
+    with open(os.path.join(out, "summary.json")) as f:
+        s = json.load(f)
+    for key in ("ranks", "cells", "steps", "wall_seconds", "cell_updates_per_second", "stages",
+                "final"):
+        check(key in s, f"{name}: summary.json has {key}")
+    check(s["ranks"] == ranks and s["cells"] == ncells and s["status"] == "completed",
+          f"{name}: summary ranks {s['ranks']}, cells {s['cells']}, {s['status']}")
+    check(os.path.exists(os.path.join(out, "case.toml")), f"{name}: resolved case echoed")
