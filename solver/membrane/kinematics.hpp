@@ -1,0 +1,64 @@
+// Membrane kinematics at a point, from the unit normal n and the surface tensor Gs.
+//
+// MODEL.md, "Membrane": Gs = F P_R F^T is carried on the grid; with n the unit normal of
+// the current surface and P = I - n n the tangential projection,
+//   Bs  = P Gs P                                (surface left Cauchy-Green tensor)
+//   Is  = tr(Bs) - 2,  IIs = (tr(Bs)^2 - tr(Bs Bs)) / 2 - 1,  J = sqrt(IIs + 1)
+// Bs has eigenvalues lambda1^2, lambda2^2 (the principal stretches) and 0 (along n), so
+// Is = lambda1^2 + lambda2^2 - 2, IIs = lambda1^2 lambda2^2 - 1 and J = lambda1 lambda2 is
+// the local area ratio. In 2D (z-invariant) runs n has no z component and Gs_zz = 1 is
+// implicit (SymmetricTensorField::value), so the same 3D formulas apply: the z direction
+// is a tangent with stretch 1 (the membrane is a cylinder surface).
+#pragma once
+
+#include "core/types.hpp"
+
+#include <algorithm>
+#include <array>
+#include <cmath>
+
+namespace efsi {
+
+using Tensor33 = std::array<std::array<real, 3>, 3>;
+
+struct MembraneKinematics {
+    Tensor33 P{};  ///< I - n n
+    Tensor33 Bs{}; ///< P Gs P
+    real Is = 0;   ///< tr(Bs) - 2
+    real IIs = 0;  ///< det of Bs on the tangent plane, minus 1
+    real J = 1;    ///< area ratio sqrt(IIs + 1)
+};
+
+/// Kinematics from a unit normal n and the (symmetric) surface tensor Gs.
+inline MembraneKinematics membrane_kinematics(const Real3& n, const Tensor33& Gs) {
+    MembraneKinematics k;
+    for (int a = 0; a < 3; ++a)
+        for (int b = 0; b < 3; ++b)
+            k.P[a][b] = (a == b ? 1.0 : 0.0) - n[a] * n[b];
+    Tensor33 GP{}; // Gs P
+    for (int a = 0; a < 3; ++a)
+        for (int b = 0; b < 3; ++b)
+            for (int c = 0; c < 3; ++c)
+                GP[a][b] += Gs[a][c] * k.P[c][b];
+    for (int a = 0; a < 3; ++a)
+        for (int b = 0; b < 3; ++b) {
+            real s = 0;
+            for (int c = 0; c < 3; ++c)
+                s += k.P[a][c] * GP[c][b];
+            k.Bs[a][b] = s;
+        }
+    real tr = 0, tr2 = 0;
+    for (int a = 0; a < 3; ++a) {
+        tr += k.Bs[a][a];
+        for (int b = 0; b < 3; ++b)
+            tr2 += k.Bs[a][b] * k.Bs[b][a];
+    }
+    k.Is = tr - 2;
+    k.IIs = 0.5 * (tr * tr - tr2) - 1;
+    // IIs + 1 = lambda1^2 lambda2^2 > 0 for any admissible Gs; the clamp only guards
+    // against a round-off negative value where Gs is degenerate (far outside the band).
+    k.J = std::sqrt(std::max(k.IIs + 1, real(1e-300)));
+    return k;
+}
+
+} // namespace efsi

@@ -1,0 +1,85 @@
+// The membrane's force on the fluid, |grad phi| f, as a force density on velocity faces.
+//
+// Continuum (MODEL.md): f = (P.grad).tau_s (in-plane tension; bending is not implemented
+// yet, see docs/method.md "Membrane mechanics"), carried by the smoothed delta |grad phi|.
+//
+// Form chosen: the CONSERVATIVE form F = div(S), S = |grad phi| tau_s.
+// Why it is the same force: with delta = |grad phi|, div(delta tau_s) = delta div(tau_s)
+// + tau_s.grad(delta), and grad(delta) is parallel to n while tau_s n = 0, so the second
+// term vanishes. And div(tau_s) = (P.grad).tau_s for a tangential tensor whenever
+// (n.grad) n = 0 (n constant along normal lines, as for the normal of the distance-like
+// psi): n_k n_l d_l tau_ik = (n.grad)(tau_ik n_k) - tau_ik (n.grad) n_k = 0. Hence
+// F = div(|grad phi| tau_s) = |grad phi| (P.grad).tau_s.
+// Why this form discretely: (1) the net force is zero to round-off (the divergence
+// telescopes), as the exact load of a closed membrane; (2) it is the adjoint of the
+// discrete velocity gradient, sum_faces F.w dV = -sum S : grad_h w dV, a discrete
+// virtual-work statement, so the power the force puts into the flow is that of the tension
+// on the discrete strain rate; (3) across the band the integral of F along a normal is
+// the jump of S-fluxes, so it carries the traction jump without needing the pointwise
+// value of f (which is O(1) wrong when the band is a fixed number of cells wide).
+//
+// Discretisation: S at cell centres in the band (see band_cutoff; only there is the
+// tension evaluated); the staggered divergence on the low d-face of cell p,
+//   F_d(p) = [S_dd(p) - S_dd(p - e_d)] / h_d
+//          + sum_{k != d} [S_dk(p + e_k) + S_dk(p + e_k - e_d) - S_dk(p - e_k)
+//                          - S_dk(p - e_k - e_d)] / (4 h_k)
+// (the off-diagonal part is the k-difference of S_dk averaged to the two edges of the
+// face), applied as a scatter from the band cells, so no work is done outside the band.
+#pragma once
+
+#include "bodies/body.hpp"
+#include "bodies/symmetric_tensor.hpp"
+#include "boundary/boundary.hpp"
+#include "interface/geometry.hpp"
+#include "membrane/membrane_law.hpp"
+
+#include <vector>
+
+namespace efsi {
+
+struct MembraneForceSettings {
+    /// Gradient stencil for n and |grad phi|; Distance differences psi = eps atanh(2phi-1).
+    GradientStencil stencil = GradientStencil::Distance;
+    /// eps of phi's tanh profile in cells (eps = smoothing_width * dx).
+    real smoothing_width = 1.0;
+    /// The band: cells whose whole gradient stencil (the 3^dim block around them) has
+    /// band_cutoff < phi < 1 - band_cutoff. Outside it phi is cut (< 1e-8 is set to 0 by
+    /// the body system) or saturated, psi = eps atanh(2 phi - 1) is not the distance, and
+    /// a wrong normal there would make Bs = P Gs P degenerate (J -> 0, tension ~ 1/J^3)
+    /// even where the delta is tiny. The delta mass left out is ~ 4 band_cutoff.
+    real band_cutoff = 1e-7;
+};
+
+/// Membrane stress S = |grad phi| tau_s at cell p (zero outside the band).
+/// Pointwise kernel: phi needs valid values at p and its 3^dim neighbours.
+Tensor33 membrane_stress_at(const Field& phi, const SymmetricTensorField& Gs,
+                            const MembraneLaw& law, const GlobalGrid& g,
+                            const MembraneForceSettings& s, const Int3& p, bool& in_band);
+
+class MembraneForce {
+  public:
+    MembraneForce(const GlobalGrid& g, const HaloFiller& halos, MembraneForceSettings settings);
+
+    /// Add the force density |grad phi| f of membrane `body` (law `law`) to the face
+    /// field `force` (whole block or any field covering the body's patch, same indices)
+    /// on the faces of the patch's owned cells. Fills the body's phi and Gs halos first.
+    /// This is the one call the time loop makes per membrane body per step.
+    void add(Body& body, const MembraneLaw& law, VelocityField& force);
+
+    /// S = |grad phi| tau_s of the last call, on the patch (owned cells and one halo layer).
+    const SymmetricTensorField& stress() const { return stress_; }
+    /// Number of cells (owned plus one halo layer) in the band at the last call.
+    std::size_t band_cells() const { return band_.size(); }
+
+  private:
+    void allocate(const Patch& patch);
+
+    GlobalGrid g_;
+    const HaloFiller& halos_;
+    MembraneForceSettings settings_;
+    SymmetricTensorField stress_;
+    Box stress_box_{};
+    std::vector<Int3> band_;
+};
+
+} // namespace efsi

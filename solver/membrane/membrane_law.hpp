@@ -1,0 +1,44 @@
+// Constitutive laws of a membrane: the strain energy per unit reference area Ws(Is, IIs)
+// through its two derivatives, and the in-plane (Cauchy) tension it implies,
+//   tau_s = (2 / J) [ dWs/dIs Bs + J^2 dWs/dIIs P ]                      (MODEL.md)
+// A law is a small object implementing `energy_derivatives`; adding a law is one file
+// (a class deriving from MembraneLaw, registered in make_membrane_law).
+#pragma once
+
+#include "membrane/kinematics.hpp"
+
+#include <memory>
+#include <string>
+
+namespace efsi {
+
+struct EnergyDerivatives {
+    real dW_dIs = 0;
+    real dW_dIIs = 0;
+};
+
+class MembraneLaw {
+  public:
+    virtual ~MembraneLaw() = default;
+    virtual std::string name() const = 0;
+    /// Strain energy per unit reference area.
+    virtual real energy(real Is, real IIs) const = 0;
+    virtual EnergyDerivatives energy_derivatives(real Is, real IIs) const = 0;
+
+    /// In-plane Cauchy tension tau_s (force per unit current length), a tangential tensor.
+    Tensor33 tension(const MembraneKinematics& k) const {
+        const EnergyDerivatives e = energy_derivatives(k.Is, k.IIs);
+        const real a = 2 * e.dW_dIs / k.J, b = 2 * k.J * e.dW_dIIs;
+        Tensor33 tau{};
+        for (int i = 0; i < 3; ++i)
+            for (int j = 0; j < 3; ++j)
+                tau[i][j] = a * k.Bs[i][j] + b * k.P[i][j];
+        return tau;
+    }
+};
+
+/// A law by name ("neo_hookean" or "skalak"); `alpha` is Skalak's area-dilation constant C
+/// (ignored by the neo-Hookean law). Throws InputError on an unknown name.
+std::unique_ptr<MembraneLaw> make_membrane_law(const std::string& name, real Es, real alpha = 1);
+
+} // namespace efsi
