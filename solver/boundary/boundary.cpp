@@ -1,6 +1,7 @@
 #include "boundary/boundary.hpp"
 
 #include <cassert>
+#include <cmath>
 
 namespace efsi {
 
@@ -14,6 +15,10 @@ std::string to_string(BoundaryType t) {
         return "free_slip";
     }
     return "?";
+}
+
+real FaceBoundary::velocity_at(int c, real t) const {
+    return frequency > 0 ? velocity[c] * std::sin(frequency * t) : velocity[c];
 }
 
 void HaloFiller::apply_wall(Field& f, int d, int side, Mirror mirror, real wall_value) const {
@@ -105,7 +110,7 @@ void HaloFiller::fill(VelocityField& v) const {
                 else if (b.type == BoundaryType::FreeSlip)
                     apply_wall(v[c], d, side, Mirror::Even, 0);
                 else
-                    apply_wall(v[c], d, side, Mirror::Odd, b.velocity[c]);
+                    apply_wall(v[c], d, side, Mirror::Odd, b.velocity_at(c, time_));
             }
         }
 }

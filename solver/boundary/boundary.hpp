@@ -25,6 +25,10 @@ enum class BoundaryType { Periodic, Wall, FreeSlip };
 struct FaceBoundary {
     BoundaryType type = BoundaryType::Periodic;
     Real3 velocity{0, 0, 0}; ///< wall velocity [m/s] (tangential only), for Wall
+    real frequency = 0;      ///< angular frequency [rad/s]: velocity * sin(frequency t); 0 = steady
+
+    /// Wall velocity component c at time t.
+    real velocity_at(int c, real t) const;
 };
 
 /// [direction][side]: side 0 is the low face (x = origin), side 1 the high face.
@@ -53,6 +57,10 @@ class HaloFiller {
     /// Velocity: wall rules for normal and tangential components.
     void fill(VelocityField& v) const;
 
+    /// Time at which moving walls are evaluated (oscillating walls depend on it).
+    void set_time(real t) { time_ = t; }
+    real time() const { return time_; }
+
     const BoxBoundaries& boundaries() const { return bc_; }
     const Decomposition& decomposition() const { return dec_; }
 
@@ -69,6 +77,7 @@ class HaloFiller {
 
     const Decomposition& dec_;
     BoxBoundaries bc_;
+    real time_ = 0;
 };
 
 } // namespace efsi

@@ -69,6 +69,10 @@ std::vector<BodyConfig> read_bodies(TableReader& top, const GlobalGrid& grid,
                                  "sharp: sub-samples per direction in the cells the surface cuts");
         b.margin = r.integer("margin", 4, Range::closed(2, 1000),
                              "cells kept around the body on its patch");
+        b.shear_modulus = r.number("shear_modulus", 0.0, Range::non_negative(), "Pa",
+                                   "solid: modulus G of the neo-Hookean stress G B'");
+        b.solid_viscosity = r.number("solid_viscosity", -1.0, Range{}, "Pa s",
+                                     "solid: viscosity mu_s (negative: the fluid's)");
         r.finish();
         if (KeyCatalogue::instance().documenting) continue;
 
@@ -87,12 +91,16 @@ std::vector<BodyConfig> read_bodies(TableReader& top, const GlobalGrid& grid,
         if (b.shape == "slab") need(b.thickness > 0, "thickness");
         if (b.shape == "mask" && b.mask_file.empty())
             throw InputError(at + ": shape 'mask' needs body.mask_file");
+        if (b.kind == "solid" && !(b.shear_modulus > 0))
+            throw InputError(at + ": kind = \"solid\" needs body.shear_modulus > 0 [Pa]");
+        if (b.kind != "solid" && (b.shear_modulus != 0 || b.solid_viscosity >= 0))
+            throw InputError(at + ": shear_modulus / solid_viscosity are for kind = \"solid\"");
         if (b.kind != "membrane" && b.bending)
             throw InputError(at + ": bending = true is only for kind = \"membrane\"");
         if (b.interface == "smoothed" && b.shape != "sphere" && b.shape != "cylinder" &&
-            b.shape != "ellipsoid")
+            b.shape != "slab" && b.shape != "ellipsoid")
             throw InputError(at + ": interface = \"smoothed\" needs a sphere, cylinder or "
-                                  "ellipsoid (shapes with a distance-like level function)");
+                                  "ellipsoid or slab (shapes with a distance-like level function)");
         // A body must lie inside the box along walled directions, and meet the box at all.
         const Real3 h = half_extent(b, grid.dim);
         for (int d = 0; d < grid.dim; ++d) {

@@ -30,6 +30,9 @@ struct BodyConfig {
     real smoothing_width = 1.0;        ///< smoothed: eps of the tanh profile, in cells
     int subsamples = 8;                ///< sharp: sub-samples per direction in cut cells
     int margin = 4;                    ///< cells kept around the body on its patch
+    // Solid (visco neo-Hookean): sigma_s' = 2 mu_s D' + G B'.
+    real shear_modulus = 0;    ///< G [Pa]
+    real solid_viscosity = -1; ///< mu_s [Pa s]; < 0: the fluid's viscosity
 };
 
 struct VofConfig {

@@ -44,10 +44,22 @@ void apply_override(toml::table& root, const std::string& path, const std::strin
             t->insert_or_assign(part, *parsed.get("v"));
             return;
         }
-        toml::node* n = t->get(part);
-        if (!n) {
-            t->insert(part, toml::table{});
+        // `name[i]` selects entry i of an array of tables ([[name]] sections).
+        toml::node* n = nullptr;
+        if (const auto br = part.find('['); br != std::string::npos && part.back() == ']') {
+            const std::string name = part.substr(0, br);
+            const std::size_t index = std::stoul(part.substr(br + 1, part.size() - br - 2));
+            toml::array* a = t->get(name) ? t->get(name)->as_array() : nullptr;
+            if (!a || index >= a->size() || !(*a)[index].is_table())
+                throw InputError(
+                    fmt::format("--set {}: there is no [[{}]] entry {}", path, name, index));
+            n = &(*a)[index];
+        } else {
             n = t->get(part);
+            if (!n) {
+                t->insert(part, toml::table{});
+                n = t->get(part);
+            }
         }
         if (!n->is_table())
             throw InputError(fmt::format("--set {}: '{}' is not a table", path, part));
@@ -78,7 +90,10 @@ FaceBoundary read_face(TableReader& parent, const std::string& key) {
     const Real3 velocity =
         sub.vector3("velocity", Real3{0, 0, 0}, Range{}, "m/s",
                     "wall velocity (tangential components only), for type = wall");
+    const real frequency = sub.number("frequency", 0.0, Range::non_negative(), "rad/s",
+                                      "wall: oscillate as velocity * sin(frequency t); 0 = steady");
     sub.finish();
+    f.frequency = frequency;
     f.type = type == "periodic" ? BoundaryType::Periodic
              : type == "wall"   ? BoundaryType::Wall
                                 : BoundaryType::FreeSlip;

@@ -134,13 +134,14 @@ SolveReport StructuredSolver::solve(const Field& rhs, Field& x, real absolute_to
         HYPRE_StructPFMGSetRAPType(s, 1);   // non-Galerkin coarse operators (cheaper, robust)
         HYPRE_StructPFMGSetNumPreRelax(s, 1);
         HYPRE_StructPFMGSetNumPostRelax(s, 1);
-        // Stop one level short of a single cell: PFMG semi-coarsens one direction per
-        // level, and on the singular pressure problem (walls and periodic only) the
-        // one-cell coarsest operator is exactly zero, which breaks the cycle (PCG then
-        // stopped after a few iterations at residuals of 1e-5).
-        int levels = 0;
+        // Keep at least two cells in every direction on the coarsest level: PFMG
+        // semi-coarsens one direction per level, and a direction coarsened to a single
+        // cell gives an exactly zero operator on the singular pressure problem (walls and
+        // periodic only; PCG then stopped at residuals of 1e-5), or, along a periodic
+        // direction, a cell coupled to itself (PCG stalled on a 4-cell periodic box).
+        int levels = 1;
         for (int d = 0; d < dec_.dim(); ++d)
-            for (int span = 1; span < dec_.grid().cells[d]; span *= 2)
+            for (int span = 2; span < dec_.grid().cells[d]; span *= 2)
                 ++levels;
         HYPRE_StructPFMGSetMaxLevels(s, std::max(levels, 1));
         if (as_preconditioner) {

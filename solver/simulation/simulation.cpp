@@ -34,6 +34,24 @@ Simulation::Simulation(const Config& config, const RunOptions& options, MPI_Comm
     } else if (bodies_) {
         bodies_->initialise();
     }
+    // Solids: their laws, the force field (only if some body is stressed) and the elastic
+    // time-step limit; whether the viscosity varies in space.
+    for (const BodyConfig& b : cfg_.bodies) {
+        SolidLaw law;
+        if (b.kind == "solid") {
+            law.shear_modulus = b.shear_modulus;
+            law.viscosity = b.solid_viscosity >= 0 ? b.solid_viscosity : cfg_.fluid.viscosity;
+            if (law.viscosity != cfg_.fluid.viscosity) state_->viscosity_varies = true;
+        } else {
+            law.viscosity = cfg_.fluid.viscosity;
+        }
+        laws_.push_back(law);
+    }
+    elastic_dt_limit_ = elastic_time_step_limit(cfg_.grid, cfg_.fluid.density, laws_);
+    if (bodies_)
+        u_mid_ = std::make_unique<VelocityField>("body_velocity", dec_->block(), dec_->dim());
+    if (elastic_dt_limit_ > 0)
+        force_ = std::make_unique<VelocityField>("body_force", dec_->block(), dec_->dim());
     halos_->fill(state_->p);
     halos_->fill(state_->mu);
     halos_->fill(state_->u);
@@ -56,6 +74,25 @@ Simulation::Simulation(const Config& config, const RunOptions& options, MPI_Comm
 }
 
 Simulation::~Simulation() = default;
+
+void Simulation::apply_body_stresses() {
+    if (!bodies_) return;
+    std::vector<const Body*> list;
+    for (Body* b : body_list())
+        list.push_back(b);
+    if (state_->viscosity_varies)
+        update_mixture_viscosity(state_->mu, cfg_.fluid.viscosity, list, laws_);
+    if (!force_) return;
+    for (int c = 0; c < force_->dim; ++c)
+        (*force_)[c].fill(0);
+    for (std::size_t k = 0; k < list.size(); ++k) {
+        if (laws_[k].shear_modulus == 0) continue;
+        Body& b = *body_list()[k];
+        for (Field& comp : b.tensor().comp)
+            halos_->fill(comp, b.patch());
+        add_elastic_force(*force_, b, laws_[k], cfg_.grid, dec_->block());
+    }
+}
 
 std::vector<Body*> Simulation::body_list() const {
     std::vector<Body*> out;
@@ -152,13 +189,31 @@ int Simulation::run() {
     std::string message;
     try {
         while (s.time < cfg_.time.end_time * (1 - 1e-12) && s.step < cfg_.time.max_steps) {
-            const TimeStepChoice choice = choose_time_step(cfg_, *dec_, s);
+            const TimeStepChoice choice =
+                choose_time_step(cfg_, *dec_, s, elastic_dt_limit_, "elastic waves");
             check_stability(choice);
-            const StepReport r = stepper_->step(s, choice.dt, timers_);
+            timers_.time("body_stress", [&] { apply_body_stresses(); });
+            if (bodies_) *u_mid_ = s.u;
+            const StepReport r = stepper_->step(s, choice.dt, timers_, force_.get());
             if (bodies_) {
-                // The bodies move with the new velocity (its halos are refreshed first).
-                timers_.time("halo", [&] { halos_->fill(s.u); });
-                bodies_->advance(s.u, choice.dt, s.step, timers_);
+                // The bodies move with the time-centred velocity (v^n + v^{n+1})/2: second
+                // order in time, and still discretely solenoidal (exact VOF conservation).
+                for (int c = 0; c < s.u.dim; ++c) {
+                    auto& m = (*u_mid_)[c].data();
+                    const auto& v = s.u[c].data();
+                    for (std::size_t q = 0; q < m.size(); ++q)
+                        m[q] = 0.5 * (m[q] + v[q]);
+                }
+                timers_.time("halo", [&] { halos_->fill(*u_mid_); });
+                try {
+                    bodies_->advance(*u_mid_, choice.dt, s.step, timers_);
+                } catch (const RunError& e) {
+                    throw RunError(fmt::format(
+                        "UNSTABLE at step {}, t = {:.6e} s: {}; {}. The last good checkpoint "
+                        "(if any) is kept in {}",
+                        s.step, s.time, e.what(), locate_worst_velocity(*dec_, s),
+                        (opt_.output_dir / "checkpoint.h5").string()));
+                }
             }
             ++steps_this_run_;
             last_.dt = choice.dt;
@@ -187,7 +242,7 @@ int Simulation::run() {
                                 eta));
             }
         }
-        check_stability(choose_time_step(cfg_, *dec_, s));
+        check_stability(choose_time_step(cfg_, *dec_, s, elastic_dt_limit_, "elastic waves"));
     } catch (const RunError& e) {
         status = "unstable";
         message = e.what();

@@ -8,6 +8,7 @@
 #include "io/checkpoint.hpp"
 #include "parallel/decomposition.hpp"
 #include "simulation/diagnostics.hpp"
+#include "solid/solid_mechanics.hpp"
 #include "time/flow_state.hpp"
 #include "time/smac.hpp"
 #include "time/stage_timers.hpp"
@@ -41,6 +42,8 @@ class Simulation {
     void write_summary(double wall_seconds, const std::string& status,
                        const std::string& message) const;
     void log(const std::string& line) const;
+    /// The bodies' stresses at the current state: mixture viscosity and elastic force.
+    void apply_body_stresses();
     std::vector<Body*> body_list() const;
 
     Config cfg_;
@@ -52,6 +55,10 @@ class Simulation {
     std::unique_ptr<class FieldOutput> fields_;
     std::unique_ptr<BodySystem> bodies_; ///< null when the case has no body
     std::vector<BodyDiagnostics> last_bodies_;
+    std::vector<SolidLaw> laws_;           ///< per body; zero modulus for non-solids
+    std::unique_ptr<VelocityField> force_; ///< body force density; only with stressed bodies
+    std::unique_ptr<VelocityField> u_mid_; ///< (v^n + v^{n+1}) / 2 that carries the bodies
+    real elastic_dt_limit_ = 0;
     StageTimers timers_;
     RunClock clock_;
     Diagnostics last_;

@@ -23,7 +23,7 @@ real mean_over_block(const Decomposition& dec, const Field& f) {
 
 } // namespace
 
-SmacStepper::SmacStepper(const Config& config, const Decomposition& dec, const HaloFiller& halos)
+SmacStepper::SmacStepper(const Config& config, const Decomposition& dec, HaloFiller& halos)
     : cfg_(config), dec_(dec), halos_(halos),
       theta_(config.time.viscous == ViscousScheme::Explicit        ? 0.0
              : config.time.viscous == ViscousScheme::CrankNicolson ? 0.5
@@ -60,11 +60,13 @@ StepReport SmacStepper::step(FlowState& s, real dt, StageTimers& timers,
                              const VelocityField* force) {
     StepReport report;
     timers.time("halo", [&] {
+        halos_.set_time(s.time);
         halos_.fill(s.u);
         if (s.viscosity_varies) halos_.fill(s.mu);
     });
     timers.time("advection", [&] { advection(s); });
     timers.time("predictor", [&] { predictor(s, dt, force); });
+    halos_.set_time(s.time + dt); // walls at the new time level for the implicit solve on
     if (theta_ > 0) timers.time("viscous_solve", [&] { report.viscous = viscous_solve(s, dt); });
     timers.time("pressure_solve", [&] { report.pressure = pressure_solve(dt); });
     timers.time("correction", [&] { correction(s, dt); });
@@ -99,12 +101,14 @@ void SmacStepper::predictor(const FlowState& s, real dt, const VelocityField* fo
                 ustar_[c](p) = 0;
                 return;
             }
+            // Body forces are explicit like advection: they join the AB2 history, so the
+            // elastic and membrane forces are extrapolated to t^{n+1/2} as well.
+            if (force) adv_[c](p) += (*force)[c](p) / rho;
             real rate = a1 * adv_[c](p) + a0 * s.adv_prev[c](p);
             rate += (-gradient_at(s.p, g, c, p) + cfg_.body_force[c]) / rho;
             if (explicit_share > 0)
                 rate += explicit_share * viscous_laplacian_at(s.u, s.mu, g, c, p) / rho;
             if (s.viscosity_varies) rate += viscous_transpose_at(s.u, s.mu, g, c, p) / rho;
-            if (force) rate += (*force)[c](p) / rho;
             ustar_[c](p) = s.u[c](p) + dt * rate;
         });
 }
@@ -126,7 +130,7 @@ SolveReport SmacStepper::viscous_solve(const FlowState& s, real dt) {
                     for (int side = 0; side < 2; ++side)
                         if (e != c && on_box_face(dec_, bc, e, side, p) &&
                             bc[e][side].type == BoundaryType::Wall)
-                            r += 2 * a * w[e][side] * bc[e][side].velocity[c];
+                            r += 2 * a * w[e][side] * bc[e][side].velocity_at(c, halos_.time());
             }
             rhs_(p) = r;
         });

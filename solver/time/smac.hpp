@@ -1,7 +1,7 @@
 // The simplified-MAC (SMAC) fractional step of Amsden & Harlow, as used in the seed:
 //
 //   1. advection   A^n = -div(v^n v^n)                      (central, conservative)
-//   2. predictor   v* = v^n + dt [ AB2(A) - grad p^n / rho + f / rho
+//   2. predictor   v* = v^n + dt [ AB2(A + F/rho) - grad p^n / rho + f / rho
 //                                  + (1 - theta) Lmu(v^n) / rho + T(v^n) / rho ]
 //   3. viscous     (I - theta dt Lmu / rho) v* = (predictor)     (implicit, hypre)
 //   4. pressure    -lap(phi) = -(rho / dt) div v*                (hypre)
@@ -9,7 +9,8 @@
 //
 // Lmu u_c = div(mu grad u_c) is treated implicitly (theta = 1/2 Crank-Nicolson or 1
 // backward Euler; theta = 0 is the explicit scheme) and T = div(mu (grad v)^T), which
-// vanishes for uniform mu, explicitly. AB2 uses the variable-step weights.
+// vanishes for uniform mu, explicitly. AB2 uses the variable-step weights; F, the force
+// density of bodies (elastic, membrane), is extrapolated with the advection.
 #pragma once
 
 #include "boundary/boundary.hpp"
@@ -30,7 +31,7 @@ struct StepReport {
 
 class SmacStepper {
   public:
-    SmacStepper(const Config& config, const Decomposition& dec, const HaloFiller& halos);
+    SmacStepper(const Config& config, const Decomposition& dec, HaloFiller& halos);
     ~SmacStepper();
 
     /// Advance the state by dt; `force` (optional) is an extra force density on the faces
@@ -47,7 +48,7 @@ class SmacStepper {
 
     const Config& cfg_;
     const Decomposition& dec_;
-    const HaloFiller& halos_;
+    HaloFiller& halos_; ///< also told the time, for moving walls
     real theta_ = 0.5;
     VelocityField adv_;   ///< A^n
     VelocityField ustar_; ///< v*
