@@ -1,6 +1,7 @@
 #include "bodies/body_system.hpp"
 
 #include "core/error.hpp"
+#include "interface/geometry.hpp"
 #include "interface/shapes.hpp"
 #include "io/hdf5_file.hpp"
 
@@ -47,7 +48,15 @@ BodySystem::BodySystem(const Config& config, const Decomposition& dec, const Hal
     for (const BodyConfig& b : config.bodies) {
         bodies_.push_back(
             std::make_unique<Body>(b.name, kind_of(b), b.bending, dec.dim(), b.kind != "passive"));
-        vof_.push_back(std::make_unique<VofAdvection>(halos, vo));
+        // A smoothed body keeps its tanh profile (1 - tanh(L/eps))/2: MTHINC reconstructs
+        // exactly (1 + tanh(beta s/h))/2 in each cell, so beta = h/eps = 1/smoothing_width
+        // carries that profile without sharpening or smearing it (the smoothed VOF).
+        VofOptions body_vo = vo;
+        if (b.interface == "smoothed") {
+            body_vo.scheme = VofScheme::Mthinc;
+            body_vo.beta_mthinc = 1.0 / b.smoothing_width;
+        }
+        vof_.push_back(std::make_unique<VofAdvection>(halos, body_vo));
         transport_.push_back(std::make_unique<BodyTransport>(halos));
         clipped_.push_back(0);
     }
@@ -99,6 +108,35 @@ void BodySystem::initialise_body(std::size_t i) {
         }
     }
     halos_.fill(phi, body.patch());
+    if (body.kind() == BodyKind::Membrane && bc.shape != "mask") {
+        // Gs = P_R = I - n_R n_R, n_R the normal of the shape's level sets through each
+        // point (exact on the surface, its natural extension off it), by central
+        // differences of the level function with a step far below the cell size.
+        const auto shape = make_shape(bc);
+        const real step = 1e-6 * g.dx(0);
+        for_each_in(phi.owned(), [&](int a, int b, int c) {
+            const Real3 x = position(g, dec_.block(), Location::Cell, a, b, c);
+            Real3 n{0, 0, 0};
+            real len = 0;
+            for (int d = 0; d < g.dim; ++d) {
+                Real3 xp = x, xm = x;
+                xp[d] += step;
+                xm[d] -= step;
+                n[d] = shape->level(xp) - shape->level(xm);
+                len += n[d] * n[d];
+            }
+            len = std::sqrt(len);
+            for (int r = 0; r < 3; ++r)
+                for (int q = r; q < 3; ++q) {
+                    const int slot = SymmetricTensorField::slot(r, q, g.dim);
+                    if (slot < 0) continue;
+                    const real nn = len > 0 ? n[r] * n[q] / (len * len) : 0.0;
+                    body.tensor().comp[slot](a, b, c) = (r == q ? 1.0 : 0.0) - nn;
+                }
+        });
+        for (Field& comp : body.tensor().comp)
+            halos_.fill(comp, body.patch());
+    }
 }
 
 Box BodySystem::occupied_box(const Body& b) const {
@@ -190,6 +228,29 @@ std::vector<BodyDiagnostics> BodySystem::measure() const {
         v = dec_.sum(v);
         for (int k = 0; k < 3; ++k)
             d.centroid[k] = v > 0 ? dec_.sum(m[k]) / v : 0.0;
+        // Second moments about the centroid (x-y block) and the area integral of |grad phi|.
+        real mxx = 0, myy = 0, mxy = 0, area = 0;
+        if (!b.patch().empty())
+            for_each_in(b.phi().owned(), [&](int a, int bb, int c) {
+                const real p = b.phi()(a, bb, c);
+                const Real3 x = position(g, dec_.block(), Location::Cell, a, bb, c);
+                const real dx = x[0] - d.centroid[0], dy = x[1] - d.centroid[1];
+                mxx += p * dx * dx;
+                myy += p * dy * dy;
+                mxy += p * dx * dy;
+                const Real3 gr = gradient_at(b.phi(), g, {a, bb, c}, GradientStencil::Isotropic);
+                area += std::sqrt(gr[0] * gr[0] + gr[1] * gr[1] + gr[2] * gr[2]);
+            });
+        mxx = dec_.sum(mxx);
+        myy = dec_.sum(myy);
+        mxy = dec_.sum(mxy);
+        d.area = dec_.sum(area) * g.cell_volume();
+        const real mean = 0.5 * (mxx + myy);
+        const real dev = std::sqrt(0.25 * (mxx - myy) * (mxx - myy) + mxy * mxy);
+        const real L = std::sqrt(std::max(mean + dev, 0.0)),
+                   B = std::sqrt(std::max(mean - dev, 0.0));
+        d.taylor_deformation = L + B > 0 ? (L - B) / (L + B) : 0.0;
+        d.inclination_over_pi = 0.5 * std::atan2(2 * mxy, mxx - myy) / 3.141592653589793;
         d.volume = v * g.cell_volume();
         d.phi_min = dec_.min(lo);
         d.phi_max = dec_.max(hi);

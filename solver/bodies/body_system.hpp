@@ -24,6 +24,13 @@ struct BodyDiagnostics {
     std::int64_t patch_cells = 0; ///< cells of the body's patch (all ranks)
     std::int64_t bytes = 0;       ///< memory of the body's fields (all ranks)
     real clipped_volume = 0;      ///< VOF clipping of the last step [m^3]
+    real area = 0;                ///< integral of |grad phi| [m^2] (perimeter x dz in 2D)
+    /// Taylor deformation D = (L - B)/(L + B) in the x-y (shear) plane and the inclination
+    /// of L to x over pi, from the second moments of phi about the centroid: for an
+    /// ellipsoid with one principal axis along z they are proportional to the squared
+    /// semi-axes, so L, B = the square roots of the eigenvalues of their x-y block.
+    real taylor_deformation = 0;
+    real inclination_over_pi = 0;
 };
 
 class BodySystem {

@@ -73,6 +73,12 @@ std::vector<BodyConfig> read_bodies(TableReader& top, const GlobalGrid& grid,
                                    "solid: modulus G of the neo-Hookean stress G B'");
         b.solid_viscosity = r.number("solid_viscosity", -1.0, Range{}, "Pa s",
                                      "solid: viscosity mu_s (negative: the fluid's)");
+        b.law = r.string("law", "neo_hookean", {"neo_hookean", "skalak"},
+                         "membrane: strain energy (MODEL.md): neo_hookean or skalak");
+        b.elastic_modulus = r.number("elastic_modulus", 0.0, Range::non_negative(), "N/m",
+                                     "membrane: modulus Es of the law (neo-Hookean: Es = 3 Gs)");
+        b.area_dilation = r.number("area_dilation", 1.0, Range::positive(), "-",
+                                   "membrane, skalak: area-dilation constant C (alpha)");
         r.finish();
         if (KeyCatalogue::instance().documenting) continue;
 
@@ -95,6 +101,16 @@ std::vector<BodyConfig> read_bodies(TableReader& top, const GlobalGrid& grid,
             throw InputError(at + ": kind = \"solid\" needs body.shear_modulus > 0 [Pa]");
         if (b.kind != "solid" && (b.shear_modulus != 0 || b.solid_viscosity >= 0))
             throw InputError(at + ": shear_modulus / solid_viscosity are for kind = \"solid\"");
+        if (b.kind == "membrane" && !(b.elastic_modulus > 0))
+            throw InputError(at + ": kind = \"membrane\" needs body.elastic_modulus > 0 [N/m]");
+        if (b.kind == "membrane" && b.interface != "smoothed")
+            throw InputError(at + ": a membrane needs interface = \"smoothed\" (its force is "
+                                  "spread by the smoothed delta function |grad phi|)");
+        if (b.kind == "membrane" && b.bending)
+            throw InputError(at + ": bending is not implemented yet (see docs/method.md, "
+                                  "Membrane mechanics)");
+        if (b.kind != "membrane" && b.elastic_modulus != 0)
+            throw InputError(at + ": elastic_modulus is for kind = \"membrane\"");
         if (b.kind != "membrane" && b.bending)
             throw InputError(at + ": bending = true is only for kind = \"membrane\"");
         if (b.interface == "smoothed" && b.shape != "sphere" && b.shape != "cylinder" &&

@@ -33,6 +33,10 @@ struct BodyConfig {
     // Solid (visco neo-Hookean): sigma_s' = 2 mu_s D' + G B'.
     real shear_modulus = 0;    ///< G [Pa]
     real solid_viscosity = -1; ///< mu_s [Pa s]; < 0: the fluid's viscosity
+    // Membrane: surface strain energy Ws of the law, with modulus Es.
+    std::string law = "neo_hookean"; ///< neo_hookean | skalak
+    real elastic_modulus = 0;        ///< Es [N/m]
+    real area_dilation = 1;          ///< Skalak's C (alpha)
 };
 
 struct VofConfig {

@@ -8,6 +8,31 @@
 
 namespace efsi {
 
+namespace {
+/// Dataset creation properties that write zeros where no rank writes (parallel HDF5 leaves
+/// such regions undefined otherwise): a body's fields cover only its patch.
+class ZeroFill {
+  public:
+    explicit ZeroFill(hid_t type) : plist_(H5Pcreate(H5P_DATASET_CREATE)) {
+        const double zero_d = 0;
+        const std::int64_t zero_i = 0;
+        H5Pset_fill_value(plist_, type,
+                          type == H5T_NATIVE_DOUBLE ? static_cast<const void*>(&zero_d)
+                                                    : static_cast<const void*>(&zero_i));
+        H5Pset_fill_time(plist_, H5D_FILL_TIME_ALLOC);
+        H5Pset_alloc_time(plist_, H5D_ALLOC_TIME_EARLY);
+    }
+    ~ZeroFill() { H5Pclose(plist_); }
+    operator hid_t() const { return plist_; }
+
+  private:
+    hid_t plist_;
+};
+ZeroFill zero_fill(hid_t type) {
+    return ZeroFill(type);
+}
+} // namespace
+
 Hdf5File::Hdf5File(const std::filesystem::path& path, Mode mode, const Decomposition& dec)
     : dec_(dec) {
     hid_t fapl = H5Pcreate(H5P_FILE_ACCESS);
@@ -36,7 +61,7 @@ void Hdf5File::write_flat_any(const std::string& name, const Int3& n, const Int3
     const hsize_t dims[2] = {total, hsize_t(ncomp)};
     hid_t fspace = H5Screate_simple(rank, dims, nullptr);
     hid_t dset =
-        H5Dcreate2(file_, name.c_str(), type, fspace, H5P_DEFAULT, H5P_DEFAULT, H5P_DEFAULT);
+        H5Dcreate2(file_, name.c_str(), type, fspace, H5P_DEFAULT, zero_fill(type), H5P_DEFAULT);
     // The block is one strided hyperslab per z plane: rows of c[0] points, stride n[0].
     H5Sselect_none(fspace);
     for (int k = 0; k < c[2]; ++k) {
@@ -98,7 +123,7 @@ void Hdf5File::write_block(const std::string& name, const Field& f) {
     buf.reserve(std::size_t(std::max<std::int64_t>(0, f.owned().count())));
     for_each_in(f.owned(), [&](int i, int j, int k) { buf.push_back(f(i, j, k)); });
     hid_t dset = H5Dcreate2(file_, name.c_str(), H5T_NATIVE_DOUBLE, s.fspace, H5P_DEFAULT,
-                            H5P_DEFAULT, H5P_DEFAULT);
+                            zero_fill(H5T_NATIVE_DOUBLE), H5P_DEFAULT);
     H5Dwrite(dset, H5T_NATIVE_DOUBLE, s.mspace, s.fspace, xfer_, buf.data());
     H5Dclose(dset);
 }

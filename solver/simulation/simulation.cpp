@@ -48,6 +48,24 @@ Simulation::Simulation(const Config& config, const RunOptions& options, MPI_Comm
         laws_.push_back(law);
     }
     elastic_dt_limit_ = elastic_time_step_limit(cfg_.grid, cfg_.fluid.density, laws_);
+    // Membranes: their laws and force kernels, and their explicit time-step limit.
+    real es_max = 0;
+    for (const BodyConfig& b : cfg_.bodies) {
+        if (b.kind == "membrane") {
+            membrane_laws_.push_back(make_membrane_law(b.law, b.elastic_modulus, b.area_dilation));
+            MembraneForceSettings ms;
+            ms.smoothing_width = b.smoothing_width;
+            membrane_forces_.push_back(std::make_unique<MembraneForce>(cfg_.grid, *halos_, ms));
+            es_max = std::max(es_max, b.elastic_modulus);
+        } else {
+            membrane_laws_.push_back(nullptr);
+            membrane_forces_.push_back(nullptr);
+        }
+    }
+    const real membrane_limit =
+        membrane_time_step_limit(cfg_.grid, cfg_.fluid.density, cfg_.fluid.viscosity, es_max);
+    if (membrane_limit > 0 && (elastic_dt_limit_ == 0 || membrane_limit < elastic_dt_limit_))
+        elastic_dt_limit_ = membrane_limit;
     if (bodies_)
         u_mid_ = std::make_unique<VelocityField>("body_velocity", dec_->block(), dec_->dim());
     if (elastic_dt_limit_ > 0)
@@ -66,7 +84,8 @@ Simulation::Simulation(const Config& config, const RunOptions& options, MPI_Comm
             if (bodies_)
                 std::ofstream(opt_.output_dir / "bodies.csv")
                     << "step,time,body,volume,centroid_x,centroid_y,centroid_z,phi_min,phi_max,"
-                       "clipped_volume,patch_cells,bytes\n";
+                       "clipped_volume,patch_cells,bytes,area,taylor_deformation,inclination_over_"
+                       "pi\n";
         }
     }
     dec_->barrier();
@@ -86,6 +105,10 @@ void Simulation::apply_body_stresses() {
     for (int c = 0; c < force_->dim; ++c)
         (*force_)[c].fill(0);
     for (std::size_t k = 0; k < list.size(); ++k) {
+        if (membrane_forces_[k]) {
+            membrane_forces_[k]->add(*body_list()[k], *membrane_laws_[k], *force_);
+            continue;
+        }
         if (laws_[k].shear_modulus == 0) continue;
         Body& b = *body_list()[k];
         for (Field& comp : b.tensor().comp)
@@ -146,10 +169,11 @@ void Simulation::write_outputs_if_due(bool final_step) {
                     std::ofstream out(opt_.output_dir / "bodies.csv", std::ios::app);
                     for (const auto& b : last_bodies_)
                         out << fmt::format("{},{:.10e},{},{:.12e},{:.10e},{:.10e},{:.10e},{:.6e},"
-                                           "{:.6e},{:.3e},{},{}\n",
+                                           "{:.6e},{:.3e},{},{},{:.10e},{:.8e},{:.8e}\n",
                                            s.step, s.time, b.name, b.volume, b.centroid[0],
                                            b.centroid[1], b.centroid[2], b.phi_min, b.phi_max,
-                                           b.clipped_volume, b.patch_cells, b.bytes);
+                                           b.clipped_volume, b.patch_cells, b.bytes, b.area,
+                                           b.taylor_deformation, b.inclination_over_pi);
                 }
             }
         });
@@ -190,7 +214,7 @@ int Simulation::run() {
     try {
         while (s.time < cfg_.time.end_time * (1 - 1e-12) && s.step < cfg_.time.max_steps) {
             const TimeStepChoice choice =
-                choose_time_step(cfg_, *dec_, s, elastic_dt_limit_, "elastic waves");
+                choose_time_step(cfg_, *dec_, s, elastic_dt_limit_, "elastic");
             check_stability(choice);
             timers_.time("body_stress", [&] { apply_body_stresses(); });
             if (bodies_) *u_mid_ = s.u;
@@ -242,7 +266,7 @@ int Simulation::run() {
                                 eta));
             }
         }
-        check_stability(choose_time_step(cfg_, *dec_, s, elastic_dt_limit_, "elastic waves"));
+        check_stability(choose_time_step(cfg_, *dec_, s, elastic_dt_limit_, "elastic"));
     } catch (const RunError& e) {
         status = "unstable";
         message = e.what();
@@ -303,7 +327,10 @@ void Simulation::write_summary(double wall_seconds, const std::string& status,
                           {"phi_min", b.phi_min},
                           {"phi_max", b.phi_max},
                           {"patch_cells", b.patch_cells},
-                          {"bytes", b.bytes}});
+                          {"bytes", b.bytes},
+                          {"area", b.area},
+                          {"taylor_deformation", b.taylor_deformation},
+                          {"inclination_over_pi", b.inclination_over_pi}});
     j["bodies"] = bodies;
     std::ofstream(opt_.output_dir / "summary.json") << j.dump(2) << "\n";
 }

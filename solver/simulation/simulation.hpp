@@ -6,6 +6,7 @@
 #include "boundary/boundary.hpp"
 #include "config/config.hpp"
 #include "io/checkpoint.hpp"
+#include "membrane/membrane_force.hpp"
 #include "parallel/decomposition.hpp"
 #include "simulation/diagnostics.hpp"
 #include "solid/solid_mechanics.hpp"
@@ -59,6 +60,9 @@ class Simulation {
     std::unique_ptr<VelocityField> force_; ///< body force density; only with stressed bodies
     std::unique_ptr<VelocityField> u_mid_; ///< (v^n + v^{n+1}) / 2 that carries the bodies
     real elastic_dt_limit_ = 0;
+    /// Per body (null for non-membranes): the law and the force kernel of a membrane.
+    std::vector<std::unique_ptr<MembraneLaw>> membrane_laws_;
+    std::vector<std::unique_ptr<MembraneForce>> membrane_forces_;
     StageTimers timers_;
     RunClock clock_;
     Diagnostics last_;

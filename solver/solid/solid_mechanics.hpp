@@ -34,6 +34,12 @@ void update_mixture_viscosity(Field& mu, real fluid_viscosity,
 void add_elastic_force(VelocityField& force, const Body& body, const SolidLaw& law,
                        const GlobalGrid& grid, const LocalBlock& block);
 
+/// Explicit membrane force limit (0 without membranes): the larger of the viscous and the
+/// inertial capillary-type limits, mu h / Es and sqrt(rho h^3 / (2 pi Es)) (Galusinski &
+/// Vigneaux 2008 show the stable step follows the viscous one at low Re and the inertial
+/// one, Brackbill et al. 1992, at high Re).
+real membrane_time_step_limit(const GlobalGrid& grid, real density, real viscosity, real es_max);
+
 /// Largest stable step for the elastic shear waves: min(dx) / sqrt(G_max / rho) (0 if none).
 real elastic_time_step_limit(const GlobalGrid& grid, real density,
                              const std::vector<SolidLaw>& laws);

