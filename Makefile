@@ -6,8 +6,8 @@ JOBS ?= 2
 export OMPI_ALLOW_RUN_AS_ROOT := 1
 export OMPI_ALLOW_RUN_AS_ROOT_CONFIRM := 1
 export OMPI_MCA_rmaps_base_oversubscribe := 1
-# The default case; the membrane issue makes it a short capsule-in-shear run.
-DEFAULT_CASE ?= cases/taylor_green
+# The default case: a short, coarse capsule-in-shear run (a few minutes) with a D(t) plot.
+DEFAULT_CASE ?= cases/capsule_default
 
 .PHONY: build run test unit pytest verify verify-full format docs clean
 
