@@ -46,8 +46,9 @@ BodySystem::BodySystem(const Config& config, const Decomposition& dec, const Hal
     vo.beta_thinc = config.vof.beta_thinc;
     vo.beta_mthinc = config.vof.beta_mthinc;
     for (const BodyConfig& b : config.bodies) {
-        bodies_.push_back(
-            std::make_unique<Body>(b.name, kind_of(b), b.bending, dec.dim(), b.kind != "passive"));
+        // A pinned solid never deforms: B stays the identity, so it is not stored.
+        bodies_.push_back(std::make_unique<Body>(b.name, kind_of(b), b.bending, dec.dim(),
+                                                 b.kind != "passive" && !b.pinned));
         // A smoothed body keeps its tanh profile (1 - tanh(L/eps))/2: MTHINC reconstructs
         // exactly (1 + tanh(beta s/h))/2 in each cell, so beta = h/eps = 1/smoothing_width
         // carries that profile without sharpening or smearing it (the smoothed VOF).
@@ -92,8 +93,8 @@ void BodySystem::initialise_body(std::size_t i) {
         try {
             f.read_block(bc.mask_dataset, phi);
         } catch (const InputError& e) {
-            throw InputError(fmt::format("body '{}': mask_file {}: {}", bc.name, file.string(),
-                                         e.what()));
+            throw InputError(
+                fmt::format("body '{}': mask_file {}: {}", bc.name, file.string(), e.what()));
         }
         for_each_in(phi.owned(), [&](int a, int b, int c) {
             phi(a, b, c) = std::clamp(phi(a, b, c), 0.0, 1.0);
@@ -168,6 +169,7 @@ Box BodySystem::occupied_box(const Body& b) const {
 void BodySystem::track_patches(bool force) {
     for (std::size_t i = 0; i < bodies_.size(); ++i) {
         Body& body = *bodies_[i];
+        if (cfg_.bodies[i].pinned && !force) continue; // never moves
         const int m = cfg_.bodies[i].margin;
         Box occ = occupied_box(body);
         if (occ.empty()) {
@@ -192,6 +194,7 @@ void BodySystem::track_patches(bool force) {
 
 void BodySystem::advance(const VelocityField& u, real dt, long step, StageTimers& timers) {
     for (std::size_t i = 0; i < bodies_.size(); ++i) {
+        if (cfg_.bodies[i].pinned) continue; // held at its initial phi (and B = I)
         Body& body = *bodies_[i];
         // The tensors first, with the velocity gradient of this step; then phi.
         if (!body.tensor().comp.empty())
@@ -218,28 +221,62 @@ std::vector<BodyDiagnostics> BodySystem::measure() const {
         const Body& b = *bodies_[i];
         BodyDiagnostics d;
         d.name = b.name();
+        // Along periodic directions positions are taken relative to a reference point
+        // (the circular mean of phi) by the minimum image, so that a body straddling the
+        // seam keeps its centroid and moments (exact while it spans less than half the box).
+        const real two_pi = 2 * 3.141592653589793;
+        Real3 ref{0, 0, 0};
+        auto image = [&](const Real3& x, const Real3& about) {
+            Real3 r = x;
+            for (int k = 0; k < g.dim; ++k)
+                if (dec_.periodic()[k])
+                    r[k] = x[k] - g.length[k] * std::round((x[k] - about[k]) / g.length[k]);
+            return r;
+        };
         real v = 0, lo = 1, hi = 0;
-        Real3 m{0, 0, 0};
+        Real3 m{0, 0, 0}, cs{0, 0, 0}, sn{0, 0, 0};
         if (!b.patch().empty())
             for_each_in(b.phi().owned(), [&](int a, int bb, int c) {
                 const real p = b.phi()(a, bb, c);
                 const Real3 x = position(g, dec_.block(), Location::Cell, a, bb, c);
+                for (int k = 0; k < g.dim; ++k) {
+                    const real th = two_pi * (x[k] - g.origin[k]) / g.length[k];
+                    cs[k] += p * std::cos(th);
+                    sn[k] += p * std::sin(th);
+                }
+                lo = std::min(lo, p);
+                hi = std::max(hi, p);
+            });
+        for (int k = 0; k < g.dim; ++k)
+            if (dec_.periodic()[k])
+                ref[k] = g.origin[k] +
+                         g.length[k] / two_pi * std::atan2(dec_.sum(sn[k]), dec_.sum(cs[k]));
+        if (!b.patch().empty())
+            for_each_in(b.phi().owned(), [&](int a, int bb, int c) {
+                const real p = b.phi()(a, bb, c);
+                const Real3 x = image(position(g, dec_.block(), Location::Cell, a, bb, c), ref);
                 v += p;
                 for (int k = 0; k < 3; ++k)
                     m[k] += p * x[k];
-                lo = std::min(lo, p);
-                hi = std::max(hi, p);
             });
         v = dec_.sum(v);
         for (int k = 0; k < 3; ++k)
             d.centroid[k] = v > 0 ? dec_.sum(m[k]) / v : 0.0;
+        const Real3 centre = d.centroid;
+        // Reported inside the box.
+        for (int k = 0; k < g.dim; ++k)
+            if (dec_.periodic()[k])
+                d.centroid[k] =
+                    g.origin[k] +
+                    std::fmod(std::fmod(centre[k] - g.origin[k], g.length[k]) + g.length[k],
+                              g.length[k]);
         // Second moments about the centroid (x-y block) and the area integral of |grad phi|.
         real mxx = 0, myy = 0, mxy = 0, area = 0;
         if (!b.patch().empty())
             for_each_in(b.phi().owned(), [&](int a, int bb, int c) {
                 const real p = b.phi()(a, bb, c);
-                const Real3 x = position(g, dec_.block(), Location::Cell, a, bb, c);
-                const real dx = x[0] - d.centroid[0], dy = x[1] - d.centroid[1];
+                const Real3 x = image(position(g, dec_.block(), Location::Cell, a, bb, c), centre);
+                const real dx = x[0] - centre[0], dy = x[1] - centre[1];
                 mxx += p * dx * dx;
                 myy += p * dy * dy;
                 mxy += p * dx * dy;

@@ -19,7 +19,8 @@ namespace efsi {
 struct BodyDiagnostics {
     std::string name;
     real volume = 0;         ///< sum phi dV [m^3]
-    Real3 centroid{0, 0, 0}; ///< sum phi x dV / volume [m] (not unwrapped across periodic seams)
+    Real3 centroid{0, 0, 0}; ///< sum phi x dV / volume [m]; across a periodic seam by the minimum
+                             ///< image, reported inside the box
     real phi_min = 0, phi_max = 0;
     std::int64_t patch_cells = 0; ///< cells of the body's patch (all ranks)
     std::int64_t bytes = 0;       ///< memory of the body's fields (all ranks)

@@ -73,6 +73,12 @@ std::vector<BodyConfig> read_bodies(TableReader& top, const GlobalGrid& grid,
                                    "solid: modulus G of the neo-Hookean stress G B'");
         b.solid_viscosity = r.number("solid_viscosity", -1.0, Range{}, "Pa s",
                                      "solid: viscosity mu_s (negative: the fluid's)");
+        b.pinned = r.boolean("pinned", false,
+                             "solid: fixed in space (not transported; the velocity inside is "
+                             "penalised to zero, e.g. a vessel wall)");
+        b.pin_tau_over_dt = r.number("pin_tau_over_dt", 1e-8, Range::positive(), "-",
+                                     "pinned: penalisation time tau of -(phi / tau) v, in units "
+                                     "of dt (implicit; smaller holds tighter)");
         b.law = r.string("law", "neo_hookean", {"neo_hookean", "skalak"},
                          "membrane: strain energy (MODEL.md): neo_hookean or skalak");
         b.elastic_modulus = r.number("elastic_modulus", 0.0, Range::non_negative(), "N/m",
@@ -97,8 +103,10 @@ std::vector<BodyConfig> read_bodies(TableReader& top, const GlobalGrid& grid,
         if (b.shape == "slab") need(b.thickness > 0, "thickness");
         if (b.shape == "mask" && b.mask_file.empty())
             throw InputError(at + ": shape 'mask' needs body.mask_file");
-        if (b.kind == "solid" && !(b.shear_modulus > 0))
+        if (b.kind == "solid" && !b.pinned && !(b.shear_modulus > 0))
             throw InputError(at + ": kind = \"solid\" needs body.shear_modulus > 0 [Pa]");
+        if (b.pinned && b.kind != "solid")
+            throw InputError(at + ": pinned = true is only for kind = \"solid\"");
         if (b.kind != "solid" && (b.shear_modulus != 0 || b.solid_viscosity >= 0))
             throw InputError(at + ": shear_modulus / solid_viscosity are for kind = \"solid\"");
         if (b.kind == "membrane" && !(b.elastic_modulus > 0))

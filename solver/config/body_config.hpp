@@ -33,6 +33,10 @@ struct BodyConfig {
     // Solid (visco neo-Hookean): sigma_s' = 2 mu_s D' + G B'.
     real shear_modulus = 0;    ///< G [Pa]
     real solid_viscosity = -1; ///< mu_s [Pa s]; < 0: the fluid's viscosity
+    /// Solid held in place: not transported, velocity inside penalised to zero by
+    /// -(chi / tau) v with tau = pin_tau_over_dt * dt (docs/method.md, Solids).
+    bool pinned = false;
+    real pin_tau_over_dt = 1e-8;
     // Membrane: surface strain energy Ws of the law, with modulus Es.
     std::string law = "neo_hookean"; ///< neo_hookean | skalak
     real elastic_modulus = 0;        ///< Es [N/m]

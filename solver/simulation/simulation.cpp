@@ -39,7 +39,8 @@ Simulation::Simulation(const Config& config, const RunOptions& options, MPI_Comm
     for (const BodyConfig& b : cfg_.bodies) {
         SolidLaw law;
         if (b.kind == "solid") {
-            law.shear_modulus = b.shear_modulus;
+            // A pinned solid keeps B = I: no elastic stress, no elastic time-step limit.
+            law.shear_modulus = b.pinned ? 0.0 : b.shear_modulus;
             law.viscosity = b.solid_viscosity >= 0 ? b.solid_viscosity : cfg_.fluid.viscosity;
             if (law.viscosity != cfg_.fluid.viscosity) state_->viscosity_varies = true;
         } else {
@@ -74,6 +75,7 @@ Simulation::Simulation(const Config& config, const RunOptions& options, MPI_Comm
     halos_->fill(state_->mu);
     halos_->fill(state_->u);
     stepper_ = std::make_unique<SmacStepper>(cfg_, *dec_, *halos_);
+    build_pinning();
 
     if (dec_->rank() == 0) {
         fs::create_directories(opt_.output_dir);
@@ -115,6 +117,35 @@ void Simulation::apply_body_stresses() {
             halos_->fill(comp, b.patch());
         add_elastic_force(*force_, b, laws_[k], cfg_.grid, dec_->block());
     }
+}
+
+void Simulation::build_pinning() {
+    // Pinned bodies never move, so K = dt chi / tau = sum_k phi_k / (tau_k / dt) is fixed:
+    // built once, from the cell fractions averaged onto the faces.
+    std::vector<Body*> list = body_list();
+    Field chi("pinned_fraction", Location::Cell, dec_->block(), dec_->dim());
+    chi.fill(0);
+    bool any = false;
+    for (std::size_t k = 0; k < list.size(); ++k) {
+        const BodyConfig& bc = cfg_.bodies[k];
+        if (!bc.pinned) continue;
+        any = true;
+        const Field& phi = list[k]->phi();
+        if (list[k]->patch().empty()) continue;
+        for_each_in(phi.owned(), [&](int i, int j, int l) {
+            chi(i, j, l) += phi(i, j, l) / bc.pin_tau_over_dt;
+        });
+    }
+    if (!any) return; // no pinned solid: no field, no term in the flow step
+    halos_->fill(chi);
+    pinning_ = std::make_unique<VelocityField>("pinning", dec_->block(), dec_->dim());
+    for (int c = 0; c < pinning_->dim; ++c)
+        for_each_cell(dec_->block().cells, [&](int i, int j, int l) {
+            Int3 lo{i, j, l};
+            --lo[c];
+            (*pinning_)[c](i, j, l) = 0.5 * (chi(lo) + chi(i, j, l));
+        });
+    stepper_->set_pinning(pinning_.get());
 }
 
 std::vector<Body*> Simulation::body_list() const {

@@ -46,6 +46,8 @@ class Simulation {
     /// The bodies' stresses at the current state: mixture viscosity and elastic force.
     void apply_body_stresses();
     std::vector<Body*> body_list() const;
+    /// K = sum over pinned solids of phi_k / pin_tau_over_dt_k on the faces (or null).
+    void build_pinning();
 
     Config cfg_;
     RunOptions opt_;
@@ -56,9 +58,10 @@ class Simulation {
     std::unique_ptr<class FieldOutput> fields_;
     std::unique_ptr<BodySystem> bodies_; ///< null when the case has no body
     std::vector<BodyDiagnostics> last_bodies_;
-    std::vector<SolidLaw> laws_;           ///< per body; zero modulus for non-solids
-    std::unique_ptr<VelocityField> force_; ///< body force density; only with stressed bodies
-    std::unique_ptr<VelocityField> u_mid_; ///< (v^n + v^{n+1}) / 2 that carries the bodies
+    std::vector<SolidLaw> laws_;             ///< per body; zero modulus for non-solids
+    std::unique_ptr<VelocityField> force_;   ///< body force density; only with stressed bodies
+    std::unique_ptr<VelocityField> u_mid_;   ///< (v^n + v^{n+1}) / 2 that carries the bodies
+    std::unique_ptr<VelocityField> pinning_; ///< K = dt chi / tau; only with pinned solids
     real elastic_dt_limit_ = 0;
     /// Per body (null for non-membranes): the law and the force kernel of a membrane.
     std::vector<std::unique_ptr<MembraneLaw>> membrane_laws_;

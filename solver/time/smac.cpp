@@ -110,6 +110,8 @@ void SmacStepper::predictor(const FlowState& s, real dt, const VelocityField* fo
                 rate += explicit_share * viscous_laplacian_at(s.u, s.mu, g, c, p) / rho;
             if (s.viscosity_varies) rate += viscous_transpose_at(s.u, s.mu, g, c, p) / rho;
             ustar_[c](p) = s.u[c](p) + dt * rate;
+            // Pinned solids, explicit viscous scheme: (1 + K) v* = v^n + dt rate.
+            if (pinning_ && explicit_share == 1.0) ustar_[c](p) /= 1.0 + (*pinning_)[c](p);
         });
 }
 
@@ -143,7 +145,8 @@ SolveReport SmacStepper::viscous_solve(const FlowState& s, real dt) {
                     return st;
                 }
                 const auto w = viscous_weights(s.mu, g, s.u.dim, c, p);
-                st.centre = 1;
+                // Identity plus the implicit penalisation K = dt chi / tau of pinned solids.
+                st.centre = 1 + (pinning_ ? (*pinning_)[c](p) : 0.0);
                 for (int e = 0; e < s.u.dim; ++e)
                     for (int side = 0; side < 2; ++side) {
                         st.centre += a * w[e][side];

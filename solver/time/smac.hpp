@@ -11,6 +11,10 @@
 // backward Euler; theta = 0 is the explicit scheme) and T = div(mu (grad v)^T), which
 // vanishes for uniform mu, explicitly. AB2 uses the variable-step weights; F, the force
 // density of bodies (elastic, membrane), is extrapolated with the advection.
+//
+// Pinned solids add the Brinkman penalisation -(chi / tau) v (chi their volume fraction on
+// the faces), implicit: the viscous solve becomes (I + K - theta dt Lmu / rho) v* = ...
+// with K = dt chi / tau, and the explicit scheme divides v* by (1 + K).
 #pragma once
 
 #include "boundary/boundary.hpp"
@@ -38,6 +42,9 @@ class SmacStepper {
     /// [N/m^3] from bodies.
     StepReport step(FlowState& s, real dt, StageTimers& timers,
                     const VelocityField* force = nullptr);
+    /// Penalise pinned solids: `k` holds K = dt chi / tau on the faces (dimensionless, as
+    /// tau is a fixed multiple of dt); null (the default) adds no term and no work.
+    void set_pinning(const VelocityField* k) { pinning_ = k; }
 
   private:
     void advection(const FlowState& s);
@@ -55,7 +62,8 @@ class SmacStepper {
     Field rhs_, phi_;
     std::unique_ptr<StructuredSolver> pressure_;
     std::array<std::unique_ptr<StructuredSolver>, 3> viscous_;
-    real viscous_dt_ = -1; ///< dt the viscous operators were assembled for
+    real viscous_dt_ = -1;                   ///< dt the viscous operators were assembled for
+    const VelocityField* pinning_ = nullptr; ///< K = dt chi / tau of pinned solids
 };
 
 } // namespace efsi
