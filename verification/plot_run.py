@@ -69,9 +69,10 @@ def plot_capsule(out: Path, case: dict) -> Path | None:
     fig, ax = plt.subplots(1, 2, figsize=(11, 4))
     n = case["grid"]["cells"][0] * 2 * radius / case["grid"]["length"][0]
     dim = "2D" if case["grid"]["cells"][2] == 1 else "3D"
-    ax[0].plot(t, d, "b-", label=f"efsi {dim}, d/{n:.0f}")
     for label, x, y in reference_curves(ca):
-        ax[0].plot(x, y, "o", ms=3, label=label)
+        ax[0].plot(x, y, "o", ms=3, alpha=0.6, label=label)
+    ax[0].plot(t, d, "b-", lw=2, zorder=5, label=f"efsi {dim}, d/{n:.0f}")
+    ax[0].set_xlim(0, max(2.0, 1.2 * t[-1]))
     ax[0].plot([0, 0.4], [0, 0.2], "k:", lw=0.8, label="D = t/2 (early time)")
     note = " (published curves are 3D)" if dim == "2D" else ""
     ax[0].set(xlabel="shear rate x t", ylabel="Taylor deformation D",
