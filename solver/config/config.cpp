@@ -223,7 +223,7 @@ Config read_config(toml::table& root, const std::filesystem::path& case_dir) {
         c.pressure_solver =
             read_solver(r.sub("pressure", "pressure Poisson solve (hypre Struct)"), 1e-10, 500);
         c.viscous_solver =
-            read_solver(r.sub("viscous", "implicit viscous solve (hypre Struct)"), 1e-12, 200);
+            read_solver(r.sub("viscous", "implicit viscous solve (hypre Struct)"), 1e-10, 200);
         r.finish();
     }
     {
