@@ -1,0 +1,228 @@
+"""Stability stress test: fixed dt as a multiple k of the automatic dt.
+
+For the 2D capsule in shear (cases/capsule_shear_2d, several Ca) and the stiff solid slab
+(cases/parallel_slab with shear_modulus = 100) the study first runs with the automatic
+(adaptive) dt and takes the typical dt it used (median of the diagnostics.csv dt column),
+then reruns with a fixed `time.dt = k x dt_auto` for each k of the tier. Per run it records
+the status (completed / unstable), the step and time where it stopped, the instability
+message, whether any written field snapshot (and the checkpoint) holds a non-finite value,
+and for completed runs the max speed over the run.
+
+Metrics: stable_margin_capsule_ca<Ca> and stable_margin_slab (largest k such that every
+k' <= k completed; a lower bound when the largest k tried completed, flagged by
+*_is_lower_bound = 1), stable_margin_capsule (the smallest over Ca),
+unstable_runs_with_nan_fields (unstable runs that wrote a non-finite field; must be 0),
+nonfinite_field_runs (any run), and a capsule Re sweep (fluid.density = Re, k = 1 and 2).
+
+Runs are short (end_time 0.5 in quick): a slowly growing instability past the end time is
+not seen, so the margins are upper estimates of the long-run margin.
+"""
+import csv
+import json
+import shutil
+from pathlib import Path
+
+import numpy as np
+
+DESCRIPTION = "stability: fixed dt = k x automatic dt, status / NaN check / margin per case"
+
+# Per tier: capsule cells per diameter, Ca list, k list, end time, Re list (capsule, Ca 0.2).
+TIERS = {
+    "ci": {"n": 8, "cas": [0.2], "ks": [0.5, 1.0, 2.0], "t_end": 0.25, "res": []},
+    "quick": {"n": 16, "cas": [0.05, 0.2], "ks": [0.5, 1.0, 1.5, 2.0, 4.0, 8.0],
+              "t_end": 0.5, "res": [0.01, 1.0, 10.0]},
+    "full": {"n": 16, "cas": [0.05, 0.2], "ks": [0.5, 1.0, 1.5, 2.0, 4.0, 6.0, 8.0],
+             "t_end": 2.0, "res": [0.01, 1.0, 10.0]},
+}
+SLAB_SHEAR_MODULUS = 100.0
+COMMON = {"output.progress_every": "100000", "output.checkpoint_every": "0"}
+
+
+def capsule_sets(n: int, ca: float, t_end: float, re: float | None = None) -> dict:
+    cells = 4 * n
+    h = 8.0 / cells
+    s = {"grid.cells": f"[{cells},{cells},1]", "grid.length": f"[8.0,8.0,{h!r}]",
+         "grid.origin": f"[-4.0,-4.0,{-h / 2!r}]", "body[0].elastic_modulus": repr(1.0 / ca),
+         "time.end_time": repr(t_end), "output.fields_interval": repr(t_end / 2),
+         "output.diagnostics_every": "1", **COMMON}
+    if re is not None:
+        s["fluid.density"] = repr(re)  # Re = rho * shear_rate * d^2 / (4 mu) = rho here
+    return s
+
+
+def slab_sets(t_end: float) -> dict:
+    return {"body[0].shear_modulus": repr(SLAB_SHEAR_MODULUS), "time.end_time": repr(t_end),
+            "output.fields_interval": repr(t_end / 2), "output.diagnostics_every": "1",
+            **COMMON}
+
+
+def nonfinite(out: Path) -> dict:
+    """Count non-finite values in every field snapshot and in the checkpoint."""
+    import h5py
+
+    def count(path):
+        bad = 0
+        with h5py.File(path, "r") as f:
+            def visit(_, obj):
+                nonlocal bad
+                if isinstance(obj, h5py.Dataset) and obj.dtype.kind == "f":
+                    bad += int(np.count_nonzero(~np.isfinite(obj[()])))
+            f.visititems(visit)
+        return bad
+
+    snaps = sorted((out / "fields").glob("fields_*.h5"))
+    ck = out / "checkpoint.h5"
+    return {"snapshots": len(snaps), "nonfinite_in_fields": sum(count(p) for p in snaps),
+            "nonfinite_in_checkpoint": count(ck) if ck.exists() else 0}
+
+
+def diagnostics(out: Path):
+    f = out / "diagnostics.csv"
+    if not f.exists():
+        return np.zeros(0), np.zeros(0)
+    with open(f) as fh:
+        rows = [r for r in csv.DictReader(fh) if int(r["step"]) > 0]
+    return (np.array([float(r["dt"]) for r in rows]),
+            np.array([float(r["max_speed"]) for r in rows]))
+
+
+def one_run(ctx, case: Path, out: Path, sets: dict) -> dict:
+    if out.exists():
+        shutil.rmtree(out)  # stale snapshots of an earlier run must not be checked
+    cmd = [ctx.efsi, "run", case, "--output", out]
+    for k, v in sets.items():
+        cmd += ["--set", f"{k}={v}"]
+    res = ctx.run(cmd, check=False)  # an unstable run exits non-zero by design
+    summ = out / "summary.json"
+    row = {"exit_code": res.returncode}
+    if not summ.exists():
+        row.update(status="crashed", message=(res.stderr or res.stdout)[-300:])
+        return row
+    s = json.loads(summ.read_text())
+    dts, speeds = diagnostics(out)
+    row.update(status=s.get("status"), message=s.get("message", ""),
+               stop_step=s.get("final_step"), stop_time=s.get("time"),
+               wall_seconds=s.get("wall_seconds"),
+               dt_typical=float(np.median(dts)) if dts.size else None,
+               max_speed=float(np.max(speeds)) if (speeds.size and s.get("status") == "completed")
+               else None)
+    row.update(nonfinite(out))
+    return row
+
+
+def margin(rows: list) -> tuple[float, bool]:
+    """Largest k with every k' <= k completed; and whether that is only a lower bound."""
+    best = 0.0
+    for r in sorted(rows, key=lambda r: r["k"]):
+        if r["status"] != "completed":
+            return best, False
+        best = r["k"]
+    return best, True
+
+
+def sweep(ctx, label: str, case: Path, sets: dict, ks: list) -> tuple[float, list]:
+    base = ctx.outdir / "runs" / label
+    auto = one_run(ctx, case, base / "auto", sets)
+    if auto["status"] != "completed" or not auto.get("dt_typical"):
+        raise RuntimeError(f"{label}: the automatic-dt run did not complete: {auto}")
+    dt_auto = auto["dt_typical"]
+    rows = [{"case": label, "k": "auto", "dt": dt_auto, **auto}]
+    for k in ks:
+        r = one_run(ctx, case, base / f"k{k:g}", {**sets, "time.dt": repr(k * dt_auto)})
+        rows.append({"case": label, "k": k, "dt": k * dt_auto, **r})
+    return dt_auto, rows
+
+
+def run(ctx):
+    import matplotlib
+    matplotlib.use("Agg")
+    import matplotlib.pyplot as plt
+
+    cfg = TIERS[ctx.tier]
+    t_end = cfg["t_end"]
+    cap_case = ctx.repo / "cases" / "capsule_shear_2d"
+    metrics, table, per_case = {}, [], {}
+
+    for ca in cfg["cas"]:
+        label = f"capsule_ca{ca:g}"
+        dt_auto, rows = sweep(ctx, label, cap_case, capsule_sets(cfg["n"], ca, t_end), cfg["ks"])
+        per_case[label] = rows
+        table += rows
+        m, lower = margin([r for r in rows if r["k"] != "auto"])
+        metrics[f"stable_margin_capsule_ca{ca:g}"] = m
+        metrics[f"stable_margin_capsule_ca{ca:g}_is_lower_bound"] = int(lower)
+        metrics[f"dt_auto_capsule_ca{ca:g}"] = dt_auto
+    metrics["stable_margin_capsule"] = min(metrics[f"stable_margin_capsule_ca{ca:g}"]
+                                           for ca in cfg["cas"])
+
+    dt_auto, rows = sweep(ctx, "slab_G100", ctx.repo / "cases" / "parallel_slab",
+                          slab_sets(t_end), cfg["ks"])
+    per_case["slab_G100"] = rows
+    table += rows
+    m, lower = margin([r for r in rows if r["k"] != "auto"])
+    metrics["stable_margin_slab"] = m
+    metrics["stable_margin_slab_is_lower_bound"] = int(lower)
+    metrics["dt_auto_slab"] = dt_auto
+
+    # Re sweep for the capsule at Ca = 0.2: automatic dt, then k = 1 and k = 2.
+    re_rows = []
+    for re in cfg["res"]:
+        label = f"capsule_ca0.2_re{re:g}"
+        _, rows = sweep(ctx, label, cap_case, capsule_sets(cfg["n"], 0.2, t_end, re), [1.0, 2.0])
+        re_rows += rows
+        for r in rows:
+            if r["k"] in (1.0, 2.0):
+                metrics[f"capsule_re{re:g}_k{r['k']:g}_stable"] = int(r["status"] == "completed")
+        metrics[f"dt_auto_capsule_re{re:g}"] = rows[0]["dt"]
+    table += re_rows
+
+    fixed = [r for r in table if r["k"] != "auto"]
+    metrics["unstable_runs"] = sum(r["status"] != "completed" for r in fixed)
+    metrics["crashed_runs"] = sum(r["status"] == "crashed" for r in table)
+    metrics["unstable_runs_with_nan_fields"] = sum(
+        r["status"] != "completed" and r.get("nonfinite_in_fields", 0) > 0 for r in table)
+    metrics["nonfinite_field_runs"] = sum(r.get("nonfinite_in_fields", 0) > 0 for r in table)
+    metrics["nonfinite_checkpoint_runs"] = sum(r.get("nonfinite_in_checkpoint", 0) > 0
+                                               for r in table)
+    metrics["unstable_runs_with_message"] = sum(
+        r["status"] == "unstable" and "UNSTABLE" in (r.get("message") or "") for r in table)
+
+    # Figure: per case k on x, stable (o) / unstable (x); Re sweep as extra rows.
+    groups = dict(per_case)
+    for re in cfg["res"]:
+        groups[f"capsule_ca0.2_re{re:g}"] = [r for r in re_rows
+                                            if r["case"] == f"capsule_ca0.2_re{re:g}"]
+    fig, ax = plt.subplots(figsize=(8, 1.0 + 0.55 * len(groups)))
+    names = list(groups)
+    for y, name in enumerate(names):
+        for r in groups[name]:
+            if r["k"] == "auto":
+                continue
+            ok = r["status"] == "completed"
+            ax.plot(r["k"], y, "o" if ok else "x", color="tab:green" if ok else "tab:red",
+                    ms=9, mew=2)
+            if not ok:
+                ax.annotate(f"t={r.get('stop_time', float('nan')):.3g}", (r["k"], y),
+                            textcoords="offset points", xytext=(0, 8), ha="center", fontsize=7)
+    ax.axvline(1.0, color="gray", ls="--", lw=1)
+    ax.set_xscale("log", base=2)
+    ks = sorted({r["k"] for r in fixed})
+    ax.set_xticks(ks)
+    ax.set_xticklabels([f"{k:g}" for k in ks])
+    ax.set_yticks(range(len(names)))
+    ax.set_yticklabels(names, fontsize=8)
+    ax.set_ylim(-0.7, len(names) - 0.3)
+    ax.set_xlabel("k = fixed dt / automatic dt  (o completed, x unstable)")
+    ax.set_title(f"stability sweep, tier {ctx.tier}, end time {t_end:g}")
+    fig.tight_layout()
+    png = ctx.outdir / "stability.png"
+    fig.savefig(png, dpi=110)
+    plt.close(fig)
+
+    cols = ["case", "k", "dt", "status", "stop_step", "stop_time", "max_speed", "snapshots",
+            "nonfinite_in_fields", "nonfinite_in_checkpoint", "exit_code", "message"]
+    tab = [{c: r.get(c) for c in cols} for r in table]
+    return {"metrics": metrics, "tables": {"runs": tab}, "figures": [str(png)],
+            "notes": (f"Short runs (end time {t_end:g}); a margin flagged is_lower_bound means "
+                      "the largest k tried still completed. Capsule Re sweep at Ca = 0.2 sets "
+                      "fluid.density = Re.")}
