@@ -138,62 +138,62 @@ std::string TableReader::string(const std::string& key, std::optional<std::strin
     return value;
 }
 
-Real3 TableReader::vector3(const std::string& key, std::optional<Real3> deflt, Range range,
-                           const std::string& unit, const std::string& meaning) {
-    document(key, "float[3]", unit,
-             deflt ? fmt::format("[{}, {}, {}]", (*deflt)[0], (*deflt)[1], (*deflt)[2])
-                   : "required",
-             range.describe(), meaning);
+const toml::array* TableReader::triple(const std::string& key, const std::string& type,
+                                       const std::string& unit, const std::string& deflt_text,
+                                       const Range& range, const std::string& meaning,
+                                       bool has_default) {
+    document(key, type, unit, has_default ? deflt_text : "required", range.describe(), meaning);
     toml::node* n = get(key);
     if (!n) {
-        if (!deflt) {
-            if (KeyCatalogue::instance().documenting) return {0, 0, 0};
+        if (!has_default && !KeyCatalogue::instance().documenting)
             throw InputError(fmt::format("{}: required key is missing ({})", full(key), meaning));
-        }
-        return *deflt;
+        return nullptr;
     }
     const toml::array* a = n->as_array();
     if (!a || a->size() != 3)
-        throw InputError(fmt::format("{}: expected an array of 3 numbers [{}]", full(key), unit));
+        throw InputError(fmt::format("{}: expected an array of 3 {}{}", full(key),
+                                     type == "float[3]" ? "numbers" : "integers",
+                                     unit == "-" ? "" : " [" + unit + "]"));
+    return a;
+}
+
+Real3 TableReader::vector3(const std::string& key, std::optional<Real3> deflt, Range range,
+                           const std::string& unit, const std::string& meaning) {
+    const std::string text =
+        deflt ? fmt::format("[{}, {}, {}]", (*deflt)[0], (*deflt)[1], (*deflt)[2]) : "";
+    const toml::array* a = triple(key, "float[3]", unit, text, range, meaning, deflt.has_value());
+    if (!a) return deflt ? *deflt : Real3{0, 0, 0};
     Real3 v{};
     for (int d = 0; d < 3; ++d) {
-        auto x = (*a)[d].value<double>();
+        const auto x = (*a)[d].value<double>();
         if (!x) throw InputError(fmt::format("{}[{}]: expected a number", full(key), d));
-        if (!range.contains(*x))
-            throw InputError(fmt::format("{}[{}] = {}: out of range (allowed: {})", full(key), d,
-                                         *x, range.describe()));
         v[d] = *x;
+        check_element(key, d, v[d], range);
     }
     return v;
 }
 
 Int3 TableReader::ivector3(const std::string& key, std::optional<Int3> deflt, Range range,
                            const std::string& meaning) {
-    document(key, "integer[3]", "-",
-             deflt ? fmt::format("[{}, {}, {}]", (*deflt)[0], (*deflt)[1], (*deflt)[2])
-                   : "required",
-             range.describe(), meaning);
-    toml::node* n = get(key);
-    if (!n) {
-        if (!deflt) {
-            if (KeyCatalogue::instance().documenting) return {1, 1, 1};
-            throw InputError(fmt::format("{}: required key is missing ({})", full(key), meaning));
-        }
-        return *deflt;
-    }
-    const toml::array* a = n->as_array();
-    if (!a || a->size() != 3)
-        throw InputError(fmt::format("{}: expected an array of 3 integers", full(key)));
+    const std::string text =
+        deflt ? fmt::format("[{}, {}, {}]", (*deflt)[0], (*deflt)[1], (*deflt)[2]) : "";
+    const toml::array* a = triple(key, "integer[3]", "-", text, range, meaning, deflt.has_value());
+    if (!a) return deflt ? *deflt : Int3{1, 1, 1};
     Int3 v{};
     for (int d = 0; d < 3; ++d) {
         if (!(*a)[d].is_integer())
             throw InputError(fmt::format("{}[{}]: expected an integer", full(key), d));
         v[d] = int(*(*a)[d].value<long long>());
-        if (!range.contains(v[d]))
-            throw InputError(fmt::format("{}[{}] = {}: out of range (allowed: {})", full(key), d,
-                                         v[d], range.describe()));
+        check_element(key, d, v[d], range);
     }
     return v;
+}
+
+void TableReader::check_element(const std::string& key, int d, real value,
+                                const Range& range) const {
+    if (!range.contains(value))
+        throw InputError(fmt::format("{}[{}] = {}: out of range (allowed: {})", full(key), d, value,
+                                     range.describe()));
 }
 
 TableReader TableReader::sub(const std::string& key, const std::string& meaning) {

@@ -77,6 +77,12 @@ class TableReader {
 
   private:
     toml::node* get(const std::string& key);
+    /// Document a 3-array key and return its array (null when absent and defaulted);
+    /// throws when it is required and missing, or not an array of 3.
+    const toml::array* triple(const std::string& key, const std::string& type,
+                              const std::string& unit, const std::string& deflt_text,
+                              const Range& range, const std::string& meaning, bool has_default);
+    void check_element(const std::string& key, int d, real value, const Range& range) const;
     void document(const std::string& key, const std::string& type, const std::string& unit,
                   const std::string& deflt, const std::string& range, const std::string& meaning);
     toml::table* table_; ///< null for an absent table (reads as empty)
