@@ -40,7 +40,8 @@ void add_elastic_force(VelocityField& force, const Body& body, const SolidLaw& l
 /// one, Brackbill et al. 1992, at high Re).
 real membrane_time_step_limit(const GlobalGrid& grid, real density, real viscosity, real es_max);
 
-/// Largest stable step for the elastic shear waves: min(dx) / sqrt(G_max / rho) (0 if none).
+/// Step limit for the elastic shear waves: min(dx) / (2 sqrt(G_max / rho)) (0 if none);
+/// the factor 1/2 is the measured margin of the explicit (AB2) elastic force.
 real elastic_time_step_limit(const GlobalGrid& grid, real density,
                              const std::vector<SolidLaw>& laws);
 
