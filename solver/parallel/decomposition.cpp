@@ -95,39 +95,33 @@ void Decomposition::exchange(Field& f, int d, bool with_low, bool with_high) con
     send_.resize(count);
     recv_.resize(count);
 
-    auto pack = [&](int start) {
+    // Copy the slab starting at layer `start` along d to (pack) or from (unpack) a buffer.
+    auto transfer = [&](int start, bool pack) {
         std::size_t c = 0;
         for (int k = lo[2]; k < hi[2]; ++k)
             for (int j = lo[1]; j < hi[1]; ++j)
                 for (int i = lo[0]; i < hi[0]; ++i) {
                     Int3 p{i, j, k};
                     p[d] += start;
-                    send_[c++] = f(p);
-                }
-    };
-    auto unpack = [&](int start) {
-        std::size_t c = 0;
-        for (int k = lo[2]; k < hi[2]; ++k)
-            for (int j = lo[1]; j < hi[1]; ++j)
-                for (int i = lo[0]; i < hi[0]; ++i) {
-                    Int3 p{i, j, k};
-                    p[d] += start;
-                    f(p) = recv_[c++];
+                    if (pack)
+                        send_[c++] = f(p);
+                    else
+                        f(p) = recv_[c++];
                 }
     };
     const int low = with_low ? neighbour_[d][0] : MPI_PROC_NULL;
     const int high = with_high ? neighbour_[d][1] : MPI_PROC_NULL;
     const int first = b[d], last = b[d] + n[d]; // owned range [first, last)
     // Send my first g layers down, receive my high halo from above.
-    pack(first);
+    transfer(first, true);
     MPI_Sendrecv(send_.data(), int(count), mpi_real(), low, 10 + d, recv_.data(), int(count),
                  mpi_real(), high, 10 + d, cart_, MPI_STATUS_IGNORE);
-    if (high != MPI_PROC_NULL) unpack(last);
+    if (high != MPI_PROC_NULL) transfer(last, false);
     // Send my last g layers up, receive my low halo from below.
-    pack(last - g);
+    transfer(last - g, true);
     MPI_Sendrecv(send_.data(), int(count), mpi_real(), high, 20 + d, recv_.data(), int(count),
                  mpi_real(), low, 20 + d, cart_, MPI_STATUS_IGNORE);
-    if (low != MPI_PROC_NULL) unpack(first - g);
+    if (low != MPI_PROC_NULL) transfer(first - g, false);
 }
 
 real Decomposition::sum(real x) const {

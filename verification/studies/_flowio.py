@@ -51,7 +51,8 @@ def low_faces(n: int, length: float, origin: float = 0.0) -> np.ndarray:
 
 def slope(h, e) -> float:
     """Least-squares slope of log(e) against log(h): the observed order over all grids."""
-    h, e = np.log(np.asarray(h, float)), np.log(np.asarray(e, float))
+    # An exactly zero error (e.g. a sphere's distance-stencil normals) must not give log(0).
+    h, e = np.log(np.asarray(h, float)), np.log(np.maximum(np.asarray(e, float), 1e-300))
     return float(np.polyfit(h, e, 1)[0])
 
 

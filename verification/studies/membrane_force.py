@@ -14,12 +14,13 @@ Metrics: membrane_force_error (finest grid of the linear map, 3D when run, else 
 membrane_force_order (least-squares slope over the grids of that case).
 """
 import json
-import math
 
 import matplotlib
 
 matplotlib.use("Agg")
 import matplotlib.pyplot as plt  # noqa: E402
+
+from _flowio import slope  # noqa: E402  (least-squares observed order)
 
 DESCRIPTION = "membrane force on an inflated sphere and a linearly deformed sphere: error and order"
 
@@ -31,13 +32,6 @@ GRIDS = {
 CASES = [("inflate", "neo_hookean", 1.0), ("linear", "neo_hookean", 1.0),
          ("linear", "skalak", 10.0)]
 
-
-def order(h, e):
-    """Least-squares slope of log e against log h."""
-    lx = [math.log(x) for x in h]
-    ly = [math.log(max(y, 1e-300)) for y in e]
-    mx, my = sum(lx) / len(lx), sum(ly) / len(ly)
-    return sum((a - mx) * (b - my) for a, b in zip(lx, ly)) / sum((a - mx) ** 2 for a in lx)
 
 
 def run(ctx):
@@ -61,7 +55,7 @@ def run(ctx):
                 if mp == "inflate":
                     metrics[f"tangential_ratio_{tag}"] = r["tangential_ratio"]
                     metrics[f"normal_error_{tag}"] = r["normal_error"]
-            p = order([1.0 / n for n in cells], errs)
+            p = slope([1.0 / n for n in cells], errs)
             metrics[f"force_order_{mp}_{law}_{dim}d"] = p
             label = f"{mp}, {law}" + (f" C={alpha:g}" if law == "skalak" else "")
             ax.loglog(cells, errs, "o-", label=f"{label} (order {p:.2f})")
