@@ -12,7 +12,15 @@ Metrics: stable_margin_capsule_ca<Ca> and stable_margin_slab (largest k such tha
 k' <= k completed; a lower bound when the largest k tried completed, flagged by
 *_is_lower_bound = 1), stable_margin_capsule (the smallest over Ca),
 unstable_runs_with_nan_fields (unstable runs that wrote a non-finite field; must be 0),
-nonfinite_field_runs (any run), and a capsule Re sweep (fluid.density = Re, k = 1 and 2).
+nonfinite_field_runs (any run), a capsule Re sweep (fluid.density = Re, k = 1 and 2) and
+a resolution sweep (capsule Ca 0.2 at several cells per diameter, the same k list:
+stable_margin_capsule_n<cells>).
+
+Long run: the 3D capsule (cases/capsule_shear, Ca 0.2; d/8 in quick, d/16 in full) with
+the automatic dt to shear-rate x t = 10, a steady tank-treading state; its volume and area
+drift over the run (capsule_volume_drift_t10, capsule_area_drift_t10; the area is the
+integral of |grad phi| and changes physically as the membrane stretches, so its drift is
+reported from t = 2 on, when D has settled) and D at the end.
 
 Runs are short (end_time 0.5 in quick): a slowly growing instability past the end time is
 not seen, so the margins are upper estimates of the long-run margin.
@@ -28,11 +36,12 @@ DESCRIPTION = "stability: fixed dt = k x automatic dt, status / NaN check / marg
 
 # Per tier: capsule cells per diameter, Ca list, k list, end time, Re list (capsule, Ca 0.2).
 TIERS = {
-    "ci": {"n": 8, "cas": [0.2], "ks": [0.5, 1.0, 2.0], "t_end": 0.25, "res": []},
+    "ci": {"n": 8, "cas": [0.2], "ks": [0.5, 1.0, 2.0], "t_end": 0.25, "res": [],
+           "grids": [], "long": None},
     "quick": {"n": 16, "cas": [0.05, 0.2], "ks": [0.5, 1.0, 1.5, 2.0, 4.0, 8.0],
-              "t_end": 0.5, "res": [0.01, 1.0, 10.0]},
+              "t_end": 0.5, "res": [0.01, 1.0, 10.0], "grids": [8, 32], "long": (8, 10.0)},
     "full": {"n": 16, "cas": [0.05, 0.2], "ks": [0.5, 1.0, 1.5, 2.0, 4.0, 6.0, 8.0],
-             "t_end": 2.0, "res": [0.01, 1.0, 10.0]},
+             "t_end": 2.0, "res": [0.01, 1.0, 10.0], "grids": [8, 32], "long": (16, 10.0)},
 }
 SLAB_SHEAR_MODULUS = 100.0
 COMMON = {"output.progress_every": "100000", "output.checkpoint_every": "0"}
@@ -48,6 +57,39 @@ def capsule_sets(n: int, ca: float, t_end: float, re: float | None = None) -> di
     if re is not None:
         s["fluid.density"] = repr(re)  # Re = rho * shear_rate * d^2 / (4 mu) = rho here
     return s
+
+
+def long_capsule(ctx, n: int, t_end: float, metrics: dict) -> dict:
+    """3D capsule (Ca 0.2) with the automatic dt to shear-rate x t = t_end; drift figures."""
+    cells = 4 * n
+    out = ctx.outdir / "runs" / f"capsule3d_n{cells}_t{t_end:g}"
+    sets = {"grid.cells": f"[{cells},{cells},{cells}]", "body[0].elastic_modulus": "5.0",
+            "time.end_time": repr(t_end), "output.fields_interval": repr(t_end / 2),
+            "output.checkpoint_every": "100", "output.progress_every": "100000"}
+    summ = out / "summary.json"
+    if not (summ.exists() and json.loads(summ.read_text()).get("status") == "completed"):
+        extra = ["--restart", str(out / "checkpoint.h5")] if (out / "checkpoint.h5").exists() else []
+        ctx.run_efsi(ctx.repo / "cases" / "capsule_shear", out, sets=sets, extra=extra)
+    with open(out / "bodies.csv") as fh:
+        rows = [r for r in csv.DictReader(fh) if r["body"] == "capsule"]
+    t = np.array([float(r["time"]) for r in rows])
+    vol = np.array([float(r["volume"]) for r in rows])
+    area = np.array([float(r["area"]) for r in rows])
+    dd = np.array([float(r["taylor_deformation"]) for r in rows])
+    s = json.loads(summ.read_text())
+    late = t >= min(2.0, t[-1] / 2)  # short (test) runs: the second half
+    row = {"cells": cells, "t_end": float(t[-1]), "status": s["status"],
+           "volume_drift": float(np.max(np.abs(vol - vol[0])) / vol[0]),
+           "area_drift_after_t2": float((area[late].max() - area[late].min()) / area[late][0]),
+           "D_end": float(dd[-1]), "D_min_after_t2": float(dd[late].min()),
+           "D_max_after_t2": float(dd[late].max()), "wall_seconds": s["wall_seconds"],
+           "steps": s["steps"]}
+    row.update(nonfinite(out))
+    metrics["capsule_volume_drift_t10"] = row["volume_drift"]
+    metrics["capsule_area_drift_t10"] = row["area_drift_after_t2"]
+    metrics["capsule_D_t10"] = row["D_end"]
+    metrics["capsule_long_run_cells"] = cells
+    return row, (t, dd, area / area[0], vol / vol[0])
 
 
 def slab_sets(t_end: float) -> dict:
@@ -176,6 +218,21 @@ def run(ctx):
         metrics[f"dt_auto_capsule_re{re:g}"] = rows[0]["dt"]
     table += re_rows
 
+    # Resolution sweep for the capsule at Ca = 0.2 (the margin against cells per diameter).
+    for n in cfg["grids"]:
+        label = f"capsule_ca0.2_n{4 * n}"
+        dt_auto, rows = sweep(ctx, label, cap_case, capsule_sets(n, 0.2, t_end), cfg["ks"])
+        per_case[label] = rows
+        table += rows
+        m, lower = margin([r for r in rows if r["k"] != "auto"])
+        metrics[f"stable_margin_capsule_n{4 * n}"] = m
+        metrics[f"stable_margin_capsule_n{4 * n}_is_lower_bound"] = int(lower)
+        metrics[f"dt_auto_capsule_n{4 * n}"] = dt_auto
+
+    long_row, long_series = (None, None)
+    if cfg["long"]:
+        long_row, long_series = long_capsule(ctx, *cfg["long"], metrics)
+
     fixed = [r for r in table if r["k"] != "auto"]
     metrics["unstable_runs"] = sum(r["status"] != "completed" for r in fixed)
     metrics["crashed_runs"] = sum(r["status"] == "crashed" for r in table)
@@ -219,10 +276,29 @@ def run(ctx):
     fig.savefig(png, dpi=110)
     plt.close(fig)
 
+    figures = [str(png)]
+    if long_series is not None:
+        t, dd, area, vol = long_series
+        fig, ax = plt.subplots(1, 2, figsize=(10, 3.5))
+        ax[0].plot(t, dd)
+        ax[0].set(xlabel="shear rate x t", ylabel="D", title=f"3D capsule Ca 0.2, {long_row['cells']}^3")
+        ax[1].plot(t, area - 1, label="area / area(0) - 1")
+        ax[1].plot(t, vol - 1, label="volume / volume(0) - 1")
+        ax[1].set(xlabel="shear rate x t")
+        ax[1].legend(fontsize=8)
+        fig.tight_layout()
+        png2 = ctx.outdir / "long_capsule.png"
+        fig.savefig(png2, dpi=110)
+        plt.close(fig)
+        figures.append(str(png2))
+
     cols = ["case", "k", "dt", "status", "stop_step", "stop_time", "max_speed", "snapshots",
             "nonfinite_in_fields", "nonfinite_in_checkpoint", "exit_code", "message"]
     tab = [{c: r.get(c) for c in cols} for r in table]
-    return {"metrics": metrics, "tables": {"runs": tab}, "figures": [str(png)],
+    tables = {"runs": tab}
+    if long_row is not None:
+        tables["long_capsule"] = [long_row]
+    return {"metrics": metrics, "tables": tables, "figures": figures,
             "notes": (f"Short runs (end time {t_end:g}); a margin flagged is_lower_bound means "
                       "the largest k tried still completed. Capsule Re sweep at Ca = 0.2 sets "
                       "fluid.density = Re.")}
