@@ -9,9 +9,17 @@ from Ramanujan & Pozrikidis 1998, or Pozrikidis 1995 for Ca = 0.0125),
 volume_drift_ca<Ca>_n<cells>, wall_seconds_ca<Ca>_n<cells>. 2D runs (the z-invariant
 model) are compared with the independent 2D references of reference/ (FE and
 boundary-integral D at t = 1), not with the 3D literature.
+
+Figure capsule_fig1d.png is laid out like the seed's Fig. 1d: D against shear-rate x t
+for every Ca, one colour per Ca, line style per resolution, Ramanujan & Pozrikidis 1998
+(open triangles), Pozrikidis 1995 (filled circles) and Eggleton & Popel 1998 (crosses).
+
+EFSI_VERIFY_CACHED_ONLY=1 reports only the runs already complete in the cache (a 3D d/32
+run costs hours); the runs it skipped are listed in the result's notes and table.
 """
 import csv
 import json
+import os
 from pathlib import Path
 
 import numpy as np
@@ -72,6 +80,46 @@ def series(out: Path):
     return t[order], col("taylor_deformation"), col("inclination_over_pi"), col("volume")
 
 
+def cached(ctx, dim: int, n: int, ca: float, t_end: float) -> bool:
+    s = ctx.outdir / "runs" / f"{dim}d_n{n}_ca{ca:g}_t{t_end:g}" / "summary.json"
+    return s.exists() and json.loads(s.read_text()).get("status") == "completed"
+
+
+def fig1d(data: Path, runs: list, png: Path) -> None:
+    """D(t) of the 3D runs laid out like the seed's Fig. 1d."""
+    import matplotlib.pyplot as plt
+
+    cas = [0.0125, 0.025, 0.05, 0.1, 0.2]
+    colour = dict(zip(cas, ["tab:blue", "tab:orange", "tab:green", "tab:red", "tab:purple"]))
+    style = {16: "--", 32: "-", 64: ":"}
+    fig, ax = plt.subplots(figsize=(7, 5.5))
+    for ca in cas:
+        for name, mk, fill in (("ramanujan_pozrikidis1998", "^", "none"),
+                               ("pozrikidis1995", "o", colour[ca]),
+                               ("eggleton_popel1998", "x", colour[ca])):
+            f = data / f"{name}_ca{ca:g}.csv"
+            if f.exists():
+                pts = np.loadtxt(f, delimiter=",", ndmin=2)
+                ax.plot(pts[:, 0], pts[:, 1], mk, ms=3.5, mfc=fill, color=colour[ca], alpha=0.6,
+                        zorder=1)
+    for n, ca, t, d in runs:
+        ax.plot(t, d, style.get(n, "-."), color=colour.get(ca, "k"), lw=2, zorder=3)
+    from matplotlib.lines import Line2D
+    handles = [Line2D([], [], color=colour[c], lw=2, label=f"Ca={c:g}") for c in cas]
+    handles += [Line2D([], [], color="gray", marker="^", mfc="none", ls="",
+                       label="Ramanujan & Pozrikidis 1998 (BEM)"),
+                Line2D([], [], color="gray", marker="o", ls="", label="Pozrikidis 1995 (BEM)"),
+                Line2D([], [], color="gray", marker="x", ls="", label="Eggleton & Popel 1998 (IB)")]
+    handles += [Line2D([], [], color="k", ls=style[n], label=f"efsi, dx = d/{n}")
+                for n in sorted({r[0] for r in runs})]
+    ax.legend(handles=handles, fontsize=7, loc="lower right")
+    ax.set(xlabel="shear rate x t", ylabel="D", xlim=(0, 2), ylim=(0, 0.6),
+           title="capsule in shear (3D, Re = 0.01), layout of the seed's Fig. 1d")
+    fig.tight_layout()
+    fig.savefig(png, dpi=120)
+    plt.close(fig)
+
+
 def run(ctx):
     import matplotlib
     matplotlib.use("Agg")
@@ -79,10 +127,14 @@ def run(ctx):
 
     data = ctx.repo.parent / "shared" / "data" / "capsule_shear"
     t_end = T_END[ctx.tier]
-    metrics, rows = {}, []
+    cached_only = os.environ.get("EFSI_VERIFY_CACHED_ONLY") == "1"
+    metrics, rows, skipped, runs3d = {}, [], [], []
     fig, ax = plt.subplots(1, 2, figsize=(12, 4.5))
     for dim, n, cas in TIERS[ctx.tier]:
         for ca in cas:
+            if cached_only and not cached(ctx, dim, n, ca, t_end):
+                skipped.append(f"{dim}D d/{n} Ca {ca:g}")
+                continue
             out = run_one(ctx, dim, n, ca, t_end)
             t, d, th, vol = series(out)
             wall = json.loads((out / "summary.json").read_text())["wall_seconds"]
@@ -103,6 +155,7 @@ def run(ctx):
                 metrics[f"volume_drift_{tag}"] = drift
                 metrics[f"wall_seconds_{tag}"] = wall
                 ax[0].plot(t, d, "-", label=f"3D d/{n}, Ca={ca:g}")
+                runs3d.append((n, ca, t, d))
             else:
                 metrics[f"D2d_t1_{tag}"] = row["D_t1"]
                 metrics[f"volume_drift_2d_{tag}"] = drift
@@ -120,5 +173,14 @@ def run(ctx):
     fig.tight_layout()
     png = ctx.outdir / "capsule_shear.png"
     fig.savefig(png, dpi=110)
-    return {"metrics": metrics, "tables": {"runs": rows}, "figures": [str(png)],
-            "notes": "Runs are cached per parameters under runs/ and resumed from checkpoints."}
+    plt.close(fig)
+    figures = [str(png)]
+    if runs3d:
+        png1d = ctx.outdir / "capsule_fig1d.png"
+        fig1d(data, runs3d, png1d)
+        figures.insert(0, str(png1d))
+    notes = "Runs are cached per parameters under runs/ and resumed from checkpoints."
+    if skipped:
+        notes += " Not run (EFSI_VERIFY_CACHED_ONLY=1, no cached result): " + ", ".join(skipped) + "."
+    return {"metrics": metrics, "tables": {"runs": rows, "not_run": [{"run": r} for r in skipped]},
+            "figures": figures, "notes": notes}
