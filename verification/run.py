@@ -33,7 +33,9 @@ from pathlib import Path
 
 REPO = Path(__file__).resolve().parent.parent
 STUDIES_DIR = REPO / "verification" / "studies"
-OUT_ROOT = REPO / "build" / "verification"
+# EFSI_VERIFY_OUT moves the results (the CI test of every study's ci tier writes elsewhere, so
+# that it does not overwrite the quick/full results a developer keeps in build/verification).
+OUT_ROOT = Path(os.environ.get("EFSI_VERIFY_OUT", REPO / "build" / "verification"))
 
 
 class Context:
