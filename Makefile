@@ -28,6 +28,7 @@ verify: build
 
 verify-full: build
 	$(PYTHON) verification/run.py --tier full $(STUDY)
+	$(PYTHON) verification/publish.py
 
 format:
 	git ls-files '*.cpp' '*.hpp' | xargs clang-format -i
