@@ -19,9 +19,14 @@
 // geometry are needed, and it holds for any map. The error is
 //   || N - E || / || E ||  over all bumps and components.
 // For `inflate` the normal and tangential parts against the centre normals are reported.
-// Prints one JSON object.
+// Prints one JSON object. `--write DIR` also writes the fields through the solver's field
+// output (DIR/fields/fields.xdmf, readable with meshio): the force density |grad phi| f
+// [N/m^3] in the `velocity` slot (cell-centred average of the faces; the raw face values
+// in `faces_u/v/w` of the .h5), pressure 0, `phi_capsule` and the Gs components (used by
+// the cross-code comparison with the FE surface load, verification/studies/cross_code.py).
 #include "bodies/body.hpp"
 #include "boundary/boundary.hpp"
+#include "io/field_output.hpp"
 #include "linear/structured_solver.hpp"
 #include "membrane/membrane_force.hpp"
 #include "parallel/decomposition.hpp"
@@ -168,7 +173,7 @@ int main(int argc, char** argv) {
     {
         LinearAlgebraScope scope;
         CLI::App app{"Membrane force on prescribed shapes (verification)"};
-        std::string map = "inflate", law_name = "neo_hookean", stencil = "distance";
+        std::string map = "inflate", law_name = "neo_hookean", stencil = "distance", write_dir;
         int cells = 32, dim = 3;
         real stretch = 1.2, alpha = 1, width = 1.0, Es = 1.0;
         app.add_option("--map", map, "inflate (A = s I) or linear (a fixed general A)")
@@ -180,6 +185,7 @@ int main(int argc, char** argv) {
         app.add_option("--alpha", alpha, "Skalak's C");
         app.add_option("--width", width, "smoothing width eps in cells");
         app.add_option("--stencil", stencil, "normal stencil (distance, isotropic, ...)");
+        app.add_option("--write", write_dir, "also write force, phi and Gs to DIR/fields");
         CLI11_PARSE(app, argc, argv);
         const auto law = make_membrane_law(law_name, Es, alpha);
 
@@ -256,6 +262,13 @@ int main(int argc, char** argv) {
         membrane.add(body, *law, force);
         const double seconds =
             std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
+        if (!write_dir.empty()) { // the force in the velocity slot of a snapshot
+            FlowState state(dec.block(), dim);
+            for (int d = 0; d < dim; ++d)
+                state.u[d] = force[d];
+            state.p.fill(0);
+            FieldOutput(write_dir, dec).write(state, {&body});
+        }
 
         // Bumps: numerical N_m (faces) and exact E_m (virtual work on the exact surface).
         const std::vector<Real3> dirs = bump_directions(dim);
