@@ -1,0 +1,75 @@
+"""The equal-error interpolation of the work-precision study, on analytic power laws.
+
+A solver whose wall time follows t = c e^(-p) is a straight line in log-log axes, which the
+log-log interpolation reproduces exactly, so the time each needs at a target error, and the
+ratio, are known in closed form."""
+import math
+import sys
+from pathlib import Path
+
+import numpy as np
+import pytest
+
+REPO = Path(__file__).resolve().parents[2]
+sys.path.insert(0, str(REPO / "verification" / "studies"))
+
+import work_precision as wp  # noqa: E402
+
+
+def power_law(c, p, errors):
+    """Runs (time, error) of a solver with t = c e^-p."""
+    return [(c * e ** -p, e) for e in errors]
+
+
+def test_same_order_constant_ratio():
+    fast = power_law(2.0, 1.5, [1e-1, 1e-2, 1e-3, 1e-4])
+    slow = power_law(30.0, 1.5, [3e-2, 3e-3, 3e-4])
+    eq = wp.equal_error(fast, slow)
+    assert eq["overlap"]
+    # target: geometric middle of the common range [3e-4, 3e-2]
+    assert eq["target"] == pytest.approx(3e-3, rel=1e-12)
+    assert eq["t_fast"] == pytest.approx(2.0 * 3e-3 ** -1.5, rel=1e-12)
+    assert eq["ratio"] == pytest.approx(15.0, rel=1e-12)
+
+
+def test_different_orders_ratio_depends_on_target():
+    # t_a = e^-1 and t_b = e^-2 cross at e = 1; at e = 1e-2 the ratio is 1e4 / 1e2 = 100
+    a = power_law(1.0, 1.0, np.logspace(0, -4, 5))
+    b = power_law(1.0, 2.0, np.logspace(0, -3, 7))
+    for target, ratio in ((1e-2, 100.0), (3e-3, 1 / 3e-3), (1e-1, 10.0)):
+        eq = wp.equal_error(a, b, target)
+        assert eq["ratio"] == pytest.approx(ratio, rel=1e-12)
+        assert eq["t_slow"] == pytest.approx(target ** -2, rel=1e-12)
+
+
+def test_interpolation_between_unequal_runs_is_geometric():
+    # two runs only: (1 s, 1e-2) and (100 s, 1e-4); e = 1e-3 lies half-way in log -> 10 s
+    assert wp.time_at_error([(1.0, 1e-2), (100.0, 1e-4)], 1e-3) == pytest.approx(10.0)
+    # order of the input does not matter
+    assert wp.time_at_error([(100.0, 1e-4), (1.0, 1e-2)], 1e-3) == pytest.approx(10.0)
+
+
+def test_no_extrapolation():
+    runs = power_law(1.0, 2.0, [1e-1, 1e-2])
+    assert wp.time_at_error(runs, 1e-3) is None
+    assert wp.time_at_error(runs, 1.0) is None
+    # disjoint error ranges: no ratio, but a lower bound when one is more accurate everywhere
+    accurate = power_law(1.0, 2.0, [1e-3, 1e-4])      # t = 1e6, 1e8
+    rough = power_law(1e-3, 1.0, [1e-1, 1e-2])        # t = 0.01, 0.1
+    assert wp.equal_error(accurate, rough)["overlap"] is False
+    bound = wp.disjoint_bound(accurate, rough)
+    # rough's best error 1e-2 took 0.1 s; accurate's cheapest (more accurate) run took 1e6 s
+    assert bound["error"] == pytest.approx(1e-2)
+    assert bound["lower_bound"] == pytest.approx(0.1 / 1e6)
+    assert wp.disjoint_bound(rough, accurate) is None
+
+
+def test_p2_evaluation_is_exact_for_quadratics():
+    y = np.linspace(0.0, 1.0, 9)                 # 4 P2 elements
+    f = lambda x: 3 * x * x - x + 0.5            # noqa: E731
+    x = np.linspace(0.0, 1.0, 101)
+    assert np.max(np.abs(wp.p2_eval(y, f(y), x) - f(x))) < 1e-13
+    # and only piecewise quadratic: a cubic is not reproduced
+    g = lambda x: x ** 3                         # noqa: E731
+    assert np.max(np.abs(wp.p2_eval(y, g(y), x) - g(x))) > 1e-4
+    assert math.isclose(float(wp.p2_eval(y, g(y), [0.25])[0]), 0.25 ** 3)
