@@ -60,7 +60,13 @@ Discretisation
 
 Outputs: D(t) = (L - B)/(L + B) and the inclination theta/pi from the second moments of
 phi, M = int phi (x - xc)(x - xc)^T dx / int phi dx (for an ellipse L = 2 sqrt(m1),
-B = 2 sqrt(m2)); the capsule area int phi dx; CSV and XDMF (P1 interpolants).
+B = 2 sqrt(m2)); the capsule area int phi dx; CSV and XDMF (P1 interpolants), both one
+file with every field (ParaView) and one file per field, ``capsule_<tag>_<field>.xdmf``
+(meshio's TimeSeriesReader reads only one temporal collection per file).
+``--probe-grid NX NY``: the FE solution itself (P2 velocity and phi, P1 pressure) evaluated
+at the cell centres of a uniform NX x NY grid over the box (DOLFINx point evaluation, no
+P1 interpolation), written with meshio as ``capsule_<tag>_probe.xdmf`` (quadrilateral cells,
+cell data): the common points of the cross-code comparison with the Cartesian solver.
 
 Usage
 =====
@@ -72,6 +78,7 @@ from __future__ import annotations
 import argparse
 import json
 import logging
+import os
 import sys
 import time
 from pathlib import Path
@@ -311,6 +318,36 @@ class CapsuleShear2D:
         return {"perimeter": L, "mean_stretch": self.integrate(self.f_lam) / L,
                 "lambda_min_band": lmin, "lambda_max_band": lmax}
 
+    def probe(self, points):
+        """u (2), p, phi of the FE solution at points (N x 2); complete on rank 0 only
+        (every rank evaluates the points inside its cells, rank 0 takes the first hit)."""
+        import dolfinx.geometry as geo
+        if not hasattr(self, "_probe_cells") or self._probe_points is not points:
+            p3 = np.c_[points, np.zeros(len(points))]
+            tree = geo.BoundingBoxTree(self.mesh, 2)
+            hits = geo.compute_colliding_cells(self.mesh, geo.compute_collisions(tree, p3), p3)
+            cells = np.array([hits.links(i)[0] if len(hits.links(i)) else -1
+                              for i in range(len(p3))], dtype=np.int32)
+            self._probe_points, self._probe_cells, self._probe_p3 = points, cells, p3
+            self._p_space = self.W.sub(1).collapse()[0]
+        cells, p3 = self._probe_cells, self._probe_p3
+        mine = cells >= 0
+        p = dolfinx.fem.Function(self._p_space)
+        p.interpolate(self.w.sub(1))                     # P1 -> P1: the same values
+        vals = np.full((len(p3), 4), np.nan)
+        if mine.any():
+            vals[mine, :2] = self.u.eval(p3[mine], cells[mine])
+            vals[mine, 2] = p.eval(p3[mine], cells[mine])[:, 0]
+            vals[mine, 3] = self.phi.eval(p3[mine], cells[mine])[:, 0]
+        parts = self.comm.gather(vals, root=0)
+        if self.comm.rank != 0:
+            return None
+        out = parts[0]
+        for v in parts[1:]:
+            fill = np.isnan(out[:, 0]) & ~np.isnan(v[:, 0])
+            out[fill] = v[fill]
+        return out
+
     def output_fields(self):
         """P1 interpolants for XDMF (DOLFINx 0.5 writes Lagrange fields of mesh degree)."""
         V1 = dolfinx.fem.VectorFunctionSpace(self.mesh, ("Lagrange", 1))
@@ -346,10 +383,41 @@ def run(args, comm):
     out_times = sorted(set(args.write_times))
     rows = []
     xdmf = None
+    per_field = {}
+    probe = None
+    if out_times and args.probe_grid:
+        import meshio
+        nx, ny = args.probe_grid
+        xs = np.linspace(-args.Lx / 2, args.Lx / 2, nx + 1)
+        ys = np.linspace(-args.Ly / 2, args.Ly / 2, ny + 1)
+        X, Y = np.meshgrid(xs, ys)                           # nodes, x fastest
+        nodes = np.c_[X.ravel(), Y.ravel()]
+        ii, jj = np.meshgrid(np.arange(nx), np.arange(ny))   # cells, x fastest
+        n0 = (jj * (nx + 1) + ii).ravel()
+        quads = np.c_[n0, n0 + 1, n0 + nx + 2, n0 + nx + 1]
+        centres = nodes[quads].mean(axis=1)
+        if comm.rank == 0:
+            out.mkdir(parents=True, exist_ok=True)
+            probe = meshio.xdmf.TimeSeriesWriter(
+                str((out / f"capsule_{tag}_probe.xdmf").resolve()))
+            cwd = os.getcwd()
+            os.chdir(out)            # meshio 5.0 puts the .h5 in the working directory
+            try:
+                probe.__enter__()
+            finally:
+                os.chdir(cwd)
+            probe.write_points_cells(nodes, [("quad", quads)])
     if out_times:
         out.mkdir(parents=True, exist_ok=True)
         xdmf = dolfinx.io.XDMFFile(comm, str(out / f"capsule_{tag}.xdmf"), "w")
         xdmf.write_mesh(model.mesh)
+        # DOLFINx puts each function in its own temporal collection, and meshio's
+        # TimeSeriesReader reads only one collection per file; so each field is also
+        # written alone (same P1 data), one meshio-readable file per field.
+        for name in ("velocity", "phi", "Gs", "pressure"):
+            per_field[name] = dolfinx.io.XDMFFile(
+                comm, str(out / f"capsule_{tag}_{name}.xdmf"), "w")
+            per_field[name].write_mesh(model.mesh)
 
     def record():
         s = model.shape()
@@ -365,6 +433,13 @@ def run(args, comm):
             if abs(model.t - tw) < 0.5 * model.dt:
                 for f in model.output_fields():
                     xdmf.write_function(f, model.t)
+                    per_field[f.name].write_function(f, model.t)
+                if args.probe_grid:
+                    vals = model.probe(centres)
+                    if probe is not None:
+                        probe.write_data(model.t, cell_data={
+                            "velocity": [vals[:, :2]], "pressure": [vals[:, 2]],
+                            "phi": [vals[:, 3]]})
 
     record()
     maybe_write(0)
@@ -381,6 +456,10 @@ def run(args, comm):
                 f"{s['lambda_max_band']:.3f}]")
     if xdmf is not None:
         xdmf.close()
+        for f in per_field.values():
+            f.close()
+    if probe is not None:
+        probe.__exit__(None, None, None)
     wall = time.time() - t_wall
     summary = {"Ca": args.Ca, "Re": args.Re, "refine": args.refine, "h": model.h,
                "h_over_d": model.h / 2, "eps": model.eps, "dt": model.dt, "steps": n_steps,
@@ -415,6 +494,9 @@ def main(argv=None):
     ap.add_argument("--dt-max", dest="dt_max", type=float, default=0.02)
     ap.add_argument("--t-end", dest="t_end", type=float, default=1.0)
     ap.add_argument("--write-times", dest="write_times", type=float, nargs="*", default=[])
+    ap.add_argument("--probe-grid", dest="probe_grid", type=int, nargs=2, default=None,
+                    metavar=("NX", "NY"), help="also write the solution at the cell centres "
+                    "of an NX x NY grid over the box (meshio XDMF) at --write-times")
     ap.add_argument("--small", action="store_true",
                     help="tiny fast case (tests): box 8 x 6, h = d/8, t_end 0.3")
     ap.add_argument("--out", default="build/reference/vesicle")
