@@ -245,7 +245,7 @@ def plot_capsule(ctx, cfg, fields, rows):
     for ax, val, title, cmap in ((axes[0, 0], du, "|u_FD - u_FE|", "viridis"),
                                  (axes[0, 1], dp, "p_FD - p_FE (window means removed)", "RdBu_r"),
                                  (axes[0, 2], dphi, "phi_FD - phi_FE", "RdBu_r")):
-        lim = np.abs(val).max()
+        lim = np.abs(val[w]).max()                    # colour scale from the window
         im = ax.imshow(grid(val), origin="lower", extent=ext, cmap=cmap,
                        vmin=-lim if cmap != "viridis" else 0, vmax=lim)
         ax.contour(np.unique(xc[:, 0]), np.unique(xc[:, 1]), grid(f["phie"]), [0.5],
