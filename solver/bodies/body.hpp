@@ -37,6 +37,7 @@ class Body {
     const SymmetricTensorField& tensor() const { return tensor_; }
     /// Reference mean curvature, only for membranes with bending.
     Field* reference_curvature() { return kappa_r_ ? &*kappa_r_ : nullptr; }
+    const Field* reference_curvature() const { return kappa_r_ ? &*kappa_r_ : nullptr; }
 
     /// Bytes held by this body's fields on this rank.
     std::size_t bytes() const;

@@ -42,7 +42,6 @@ std::vector<BodyConfig> read_bodies(TableReader& top, const GlobalGrid& grid,
         b.name = r.string("name", std::nullopt, {}, "unique name (used in output names)");
         b.kind = r.string("kind", "passive", {"passive", "solid", "membrane"},
                           "passive (phi only), solid (carries B) or membrane (carries Gs)");
-        b.bending = r.boolean("bending", false, "membrane: carry the reference curvature kappa_R");
         b.shape = r.string("shape", std::nullopt,
                            {"sphere", "ellipsoid", "biconcave", "cylinder", "box", "slab", "mask"},
                            "initial shape");
@@ -89,6 +88,12 @@ std::vector<BodyConfig> read_bodies(TableReader& top, const GlobalGrid& grid,
         if (KeyCatalogue::instance().documenting) continue;
 
         const std::string at = fmt::format("body '{}'", b.name);
+        b.bending_modulus =
+            r.number("bending_modulus", 0.0, Range::non_negative(), "N m",
+                     "membrane: bending modulus Eb of the moment m = Eb (kappa - kappa_R P) "
+                     "(0: no bending); kappa_R starts as the initial shape's curvature (mean "
+                     "curvature in 3D, the section's in 2D)");
+        b.bending = b.bending_modulus > 0;
         if (!names.insert(b.name).second) throw InputError(at + ": the name is used twice");
         if (b.shape == "biconcave" && b.radius == 0) b.radius = 3.91e-6;
         auto need = [&](bool ok, const char* key) {
@@ -114,13 +119,10 @@ std::vector<BodyConfig> read_bodies(TableReader& top, const GlobalGrid& grid,
         if (b.kind == "membrane" && b.interface != "smoothed")
             throw InputError(at + ": a membrane needs interface = \"smoothed\" (its force is "
                                   "spread by the smoothed delta function |grad phi|)");
-        if (b.kind == "membrane" && b.bending)
-            throw InputError(at + ": bending is not implemented yet (see docs/method.md, "
-                                  "Membrane mechanics)");
         if (b.kind != "membrane" && b.elastic_modulus != 0)
             throw InputError(at + ": elastic_modulus is for kind = \"membrane\"");
-        if (b.kind != "membrane" && b.bending)
-            throw InputError(at + ": bending = true is only for kind = \"membrane\"");
+        if (b.kind != "membrane" && b.bending_modulus != 0)
+            throw InputError(at + ": bending_modulus is for kind = \"membrane\"");
         if (b.interface == "smoothed" && b.shape != "sphere" && b.shape != "cylinder" &&
             b.shape != "slab" && b.shape != "ellipsoid")
             throw InputError(at + ": interface = \"smoothed\" needs a sphere, cylinder or "

@@ -14,7 +14,7 @@ class TableReader;
 struct BodyConfig {
     std::string name;
     std::string kind = "passive"; ///< passive (phi only) | solid (B) | membrane (Gs)
-    bool bending = false;         ///< membrane only: carry kappa_R
+    bool bending = false;         ///< membrane with bending_modulus > 0: carries kappa_R
     std::string shape;            ///< sphere | ellipsoid | biconcave | cylinder | box | slab | mask
     Real3 centre{0, 0, 0};        ///< [m]
     real radius = 0;              ///< sphere, cylinder; biconcave R0 [m]
@@ -44,6 +44,7 @@ struct BodyConfig {
 };
 
 struct VofConfig {
+    real bending_modulus = 0;        ///< Eb [N m] of m = Eb (kappa - kappa_R P); 0: no bending
     std::string scheme = "mthinc"; ///< mthinc | thinc
     real beta_thinc = 3.5;
     real beta_mthinc = 2.0;

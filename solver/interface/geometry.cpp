@@ -72,4 +72,19 @@ real mean_curvature_at(const std::array<Field, 3>& n, const GlobalGrid& g, int d
     return -0.5 * div;
 }
 
+real level_set_curvature(const std::array<std::array<real, 3>, 3>& H, const Real3& grad, int dim) {
+    real g2 = 0;
+    for (int a = 0; a < dim; ++a)
+        g2 += grad[a] * grad[a];
+    if (!(g2 > 0)) return 0;
+    const real mag = std::sqrt(g2);
+    real tr = 0, nhn = 0;
+    for (int a = 0; a < dim; ++a) {
+        tr += H[a][a];
+        for (int b = 0; b < dim; ++b)
+            nhn += grad[a] * H[a][b] * grad[b] / g2;
+    }
+    return (tr - nhn) / (mag * (dim - 1));
+}
+
 } // namespace efsi

@@ -46,4 +46,12 @@ void compute_normals(const Field& phi, const GlobalGrid& g, const Box& box, Grad
 /// Mean curvature -div(n)/2 at cell p by central differences of the normal field.
 real mean_curvature_at(const std::array<Field, 3>& n, const GlobalGrid& g, int dim, const Int3& p);
 
+/// Curvature of the level set of a function L (negative inside the body) through a point,
+/// from its gradient g and Hessian H there: kappa = -div(n) / (dim - 1) with the inward
+/// n = -g / |g|, i.e. -div(n) = (tr H - g.H.g / |g|^2) / |g|. The mean of the principal curvatures
+/// over the directions a surface can bend: two in 3D; one in 2D, where the z-invariant
+/// cylinder surface has straight generators. 1/R on a sphere or circle of radius R. This
+/// is the membrane's reference curvature kappa_R (docs/method.md, "Membrane bending").
+real level_set_curvature(const std::array<std::array<real, 3>, 3>& H, const Real3& grad, int dim);
+
 } // namespace efsi

@@ -44,6 +44,8 @@ void write_checkpoint(const fs::path& file, const Decomposition& dec, const Flow
             f.write_block(base + "phi", b->phi());
             for (const Field& c : b->tensor().comp)
                 f.write_block("body_" + c.name(), c);
+            if (const Field* kr = b->reference_curvature())
+                f.write_block("body_" + kr->name(), *kr);
         }
     }
     dec.barrier();
@@ -80,6 +82,7 @@ void read_checkpoint(const fs::path& file, const Decomposition& dec, FlowState& 
         f.read_block(base + "phi", b->phi());
         for (Field& c : b->tensor().comp)
             f.read_block("body_" + c.name(), c);
+        if (Field* kr = b->reference_curvature()) f.read_block("body_" + kr->name(), *kr);
     }
 }
 

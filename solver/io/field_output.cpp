@@ -97,6 +97,7 @@ void FieldOutput::write(const FlowState& s, const std::vector<const Body*>& bodi
             write_patch_field("phi_" + body->name(), body->phi());
             for (const Field& c : body->tensor().comp)
                 write_patch_field(c.name(), c);
+            if (const Field* kr = body->reference_curvature()) write_patch_field(kr->name(), *kr);
         }
     }
     index_.push_back({s.step, s.time, name});

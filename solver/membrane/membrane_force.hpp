@@ -1,7 +1,9 @@
 // The membrane's force on the fluid, |grad phi| f, as a force density on velocity faces.
 //
-// Continuum (MODEL.md): f = (P.grad).tau_s (in-plane tension; bending is not implemented
-// yet, see docs/method.md "Membrane mechanics"), carried by the smoothed delta |grad phi|.
+// Continuum (MODEL.md): f = (P.grad).tau_s - (P.grad).(q n) (in-plane tension, and the
+// transverse shear q of bending when the body has a bending modulus; the sign of the
+// bending term is the energy-consistent one, see docs/method.md "Membrane bending"),
+// carried by a smoothed delta.
 //
 // Form chosen: the CONSERVATIVE form F = div(S), S = |grad phi| tau_s.
 // Why it is the same force: with delta = |grad phi|, div(delta tau_s) = delta div(tau_s)
@@ -25,6 +27,15 @@
 //                          - S_dk(p - e_k - e_d)] / (4 h_k)
 // (the off-diagonal part is the k-difference of S_dk averaged to the two edges of the
 // face), applied as a scatter from the band cells, so no work is done outside the band.
+//
+// Bending (docs/method.md, "Membrane bending"): with psi = eps atanh(2 phi - 1),
+//   n = grad psi / |grad psi|,  kappa = -P H P / |grad psi|  (H = Hessian of psi),
+//   m = Eb (kappa - kappa_R P_b),  q = P [(P.grad).m],  S_b = -delta_b n q^T,
+// F_d += sum_k d_k (S_b)_dk by the same staggered scatter. kappa is the curvature tensor of
+// the level surface of psi through the cell, (P.grad).m the derivative along that level
+// surface, so by the coarea formula the band force is the delta-weighted average over the
+// level surfaces of their own bending loads. delta_b is a cosine kernel in psi of
+// half-width `bending_width` cells (or the tension's |grad phi|), times |grad psi|.
 #pragma once
 
 #include "bodies/body.hpp"
@@ -33,6 +44,7 @@
 #include "interface/geometry.hpp"
 #include "membrane/membrane_law.hpp"
 
+#include <array>
 #include <vector>
 
 namespace efsi {
@@ -51,7 +63,22 @@ struct MembraneForceSettings {
     /// profile and its normals are noise (a translated capsule blew up with 1e-7); 1e-4
     /// doubled the force error at 128 cells across, 1e-5 leaves it unchanged.
     real band_cutoff = 1e-5;
+
+    /// Bending modulus Eb [N m] (J); 0: no bending (no bending fields, no bending work).
+    real bending_modulus = 0;
+    /// Kernel spreading the bending load: `Cosine` (1 + cos(pi psi / w)) / (2 w) |grad psi|
+    /// for |psi| < w, w = bending_width cells, or `Profile`, the tension's |grad phi|
+    /// (truncated where the stencil leaves the band).
+    enum class BendingKernel { Cosine, Profile } bending_kernel = BendingKernel::Cosine;
+    real bending_width = 2.0;
 };
+
+/// Explicit bending time-step limit (0 without bending): the larger of the viscous and the
+/// inertial bending-wave limits, mu h^3 / Eb and sqrt(rho h^5 / (2 pi Eb)) (docs/method.md,
+/// "Membrane bending": Stokes relaxation rate Eb k^3 / (4 mu) of a bending mode at the
+/// band's largest wavenumber k = 4^(1/3) / h; the 2D capsule blew up at 3.7 mu h^3 / Eb and
+/// ran at 2.4, so the automatic dt, cfl x this, keeps a margin of ~5 at cfl = 0.5).
+real bending_time_step_limit(const GlobalGrid& grid, real density, real viscosity, real eb_max);
 
 /// Membrane stress S = |grad phi| tau_s at cell p (zero outside the band).
 /// Pointwise kernel: phi needs valid values at p and its 3^dim neighbours.
@@ -73,9 +100,15 @@ class MembraneForce {
     const SymmetricTensorField& stress() const { return stress_; }
     /// Number of cells (owned plus one halo layer) in the band at the last call.
     std::size_t band_cells() const { return band_.size(); }
+    /// Owned cells that carried a bending load at the last call, and those inside the
+    /// kernel whose stencil left the band (their load is dropped; 0 when the band is wide
+    /// enough for the kernel).
+    std::size_t bending_cells() const { return bending_cells_; }
+    std::size_t bending_dropped() const { return bending_dropped_; }
 
   private:
     void allocate(const Patch& patch);
+    void add_bending(Body& body, VelocityField& force);
 
     GlobalGrid g_;
     const HaloFiller& halos_;
@@ -83,6 +116,13 @@ class MembraneForce {
     SymmetricTensorField stress_;
     Box stress_box_{};
     std::vector<Int3> band_;
+    // Bending scratch (allocated only when bending_modulus > 0), on the patch:
+    Field psi_;              ///< eps atanh(2 phi - 1), halo 2
+    Field band_mask_;        ///< 1 on band cells, halo 1
+    SymmetricTensorField m_; ///< bending moment, halo 1
+    std::array<Field, 3> n_; ///< unit normal on band cells, halo 1
+    std::array<Field, 3> q_; ///< delta_b q (transverse shear times the kernel), halo 1
+    std::size_t bending_cells_ = 0, bending_dropped_ = 0;
 };
 
 } // namespace efsi

@@ -50,14 +50,16 @@ Simulation::Simulation(const Config& config, const RunOptions& options, MPI_Comm
     }
     elastic_dt_limit_ = elastic_time_step_limit(cfg_.grid, cfg_.fluid.density, laws_);
     // Membranes: their laws and force kernels, and their explicit time-step limit.
-    real es_max = 0;
+    real es_max = 0, eb_max = 0;
     for (const BodyConfig& b : cfg_.bodies) {
         if (b.kind == "membrane") {
             membrane_laws_.push_back(make_membrane_law(b.law, b.elastic_modulus, b.area_dilation));
             MembraneForceSettings ms;
             ms.smoothing_width = b.smoothing_width;
+            ms.bending_modulus = b.bending_modulus;
             membrane_forces_.push_back(std::make_unique<MembraneForce>(cfg_.grid, *halos_, ms));
             es_max = std::max(es_max, b.elastic_modulus);
+            eb_max = std::max(eb_max, b.bending_modulus);
         } else {
             membrane_laws_.push_back(nullptr);
             membrane_forces_.push_back(nullptr);
@@ -67,6 +69,12 @@ Simulation::Simulation(const Config& config, const RunOptions& options, MPI_Comm
         membrane_time_step_limit(cfg_.grid, cfg_.fluid.density, cfg_.fluid.viscosity, es_max);
     if (membrane_limit > 0 && (elastic_dt_limit_ == 0 || membrane_limit < elastic_dt_limit_))
         elastic_dt_limit_ = membrane_limit;
+    const real bending_limit =
+        bending_time_step_limit(cfg_.grid, cfg_.fluid.density, cfg_.fluid.viscosity, eb_max);
+    if (bending_limit > 0 && (elastic_dt_limit_ == 0 || bending_limit < elastic_dt_limit_)) {
+        elastic_dt_limit_ = bending_limit;
+        elastic_dt_name_ = "bending";
+    }
     if (bodies_)
         u_mid_ = std::make_unique<VelocityField>("body_velocity", dec_->block(), dec_->dim());
     if (elastic_dt_limit_ > 0)
@@ -245,7 +253,7 @@ int Simulation::run() {
     try {
         while (s.time < cfg_.time.end_time * (1 - 1e-12) && s.step < cfg_.time.max_steps) {
             const TimeStepChoice choice =
-                choose_time_step(cfg_, *dec_, s, elastic_dt_limit_, "elastic");
+                choose_time_step(cfg_, *dec_, s, elastic_dt_limit_, elastic_dt_name_);
             check_stability(choice);
             timers_.time("body_stress", [&] { apply_body_stresses(); });
             if (bodies_) *u_mid_ = s.u;
@@ -297,7 +305,7 @@ int Simulation::run() {
                                 eta));
             }
         }
-        check_stability(choose_time_step(cfg_, *dec_, s, elastic_dt_limit_, "elastic"));
+        check_stability(choose_time_step(cfg_, *dec_, s, elastic_dt_limit_, elastic_dt_name_));
     } catch (const RunError& e) {
         status = "unstable";
         message = e.what();

@@ -63,6 +63,7 @@ class Simulation {
     std::unique_ptr<VelocityField> u_mid_;   ///< (v^n + v^{n+1}) / 2 that carries the bodies
     std::unique_ptr<VelocityField> pinning_; ///< K = dt chi / tau; only with pinned solids
     real elastic_dt_limit_ = 0;
+    std::string elastic_dt_name_ = "elastic"; ///< which body limit it is (elastic, bending)
     /// Per body (null for non-membranes): the law and the force kernel of a membrane.
     std::vector<std::unique_ptr<MembraneLaw>> membrane_laws_;
     std::vector<std::unique_ptr<MembraneForce>> membrane_forces_;

@@ -19,6 +19,15 @@
 // geometry are needed, and it holds for any map. The error is
 //   || N - E || / || E ||  over all bumps and components.
 // For `inflate` the normal and tangential parts against the centre normals are reported.
+//
+// Bending (`--bending Eb`, usually with `--es 0`): the body carries kappa_R, set to
+// `--kappa-r reference` (the reference sphere's concentric level sets carried by the map,
+// 1/|A^-1 (x - c)|, 1/R0 on the surface: what transport from the initial shape gives),
+// `current` (the curvature of the current level set through x: the shape's own) or a
+// number (uniform). The exact bending load has no closed form on a deformed shape, so the
+// driver prints the bump integrals N_m and the bump centres ("bumps", "numeric"), and the
+// study (verification/studies/membrane_bending.py) compares them with the same integrals
+// of the load computed independently on a fine spectral parametrisation of the surface.
 // Prints one JSON object. `--write DIR` also writes the fields through the solver's field
 // output (DIR/fields/fields.xdmf, readable with meshio): the force density |grad phi| f
 // [N/m^3] in the `velocity` slot (cell-centred average of the faces; the raw face values
@@ -174,8 +183,9 @@ int main(int argc, char** argv) {
         LinearAlgebraScope scope;
         CLI::App app{"Membrane force on prescribed shapes (verification)"};
         std::string map = "inflate", law_name = "neo_hookean", stencil = "distance", write_dir;
-        int cells = 32, dim = 3;
-        real stretch = 1.2, alpha = 1, width = 1.0, Es = 1.0;
+        int cells = 32, dim = 3, grid_multiple = 1;
+        std::string kappa_r = "reference", kernel = "cosine";
+        real stretch = 1.2, alpha = 1, width = 1.0, Es = 1.0, Eb = 0, bending_width = 2.0;
         app.add_option("--map", map, "inflate (A = s I) or linear (a fixed general A)")
             ->check(CLI::IsMember({"inflate", "linear", "identity"}));
         app.add_option("--cells", cells, "cells across the reference diameter 2 R0");
@@ -185,6 +195,14 @@ int main(int argc, char** argv) {
         app.add_option("--alpha", alpha, "Skalak's C");
         app.add_option("--width", width, "smoothing width eps in cells");
         app.add_option("--stencil", stencil, "normal stencil (distance, isotropic, ...)");
+        app.add_option("--es", Es, "elastic modulus Es (0: bending only)");
+        app.add_option("--bending", Eb, "bending modulus Eb (0: no bending)");
+        app.add_option("--kappa-r", kappa_r, "reference, current, or a number");
+        app.add_option("--kernel", kernel, "bending kernel: cosine or profile")
+            ->check(CLI::IsMember({"cosine", "profile"}));
+        app.add_option("--bending-width", bending_width, "cosine kernel half-width in cells");
+        app.add_option("--grid-multiple", grid_multiple,
+                       "round the cell count per direction up to a multiple of this (for ranks)");
         app.add_option("--write", write_dir, "also write force, phi and Gs to DIR/fields");
         CLI11_PARSE(app, argc, argv);
         const auto law = make_membrane_law(law_name, Es, alpha);
@@ -214,7 +232,8 @@ int main(int argc, char** argv) {
             for (int b = 0; b < dim; ++b)
                 amax += A[a][b] * A[a][b];
         const real half = 0.05 + std::sqrt(amax) * R0 + 12 * h;
-        const int n = int(std::ceil(2 * half / h));
+        int n = int(std::ceil(2 * half / h));
+        n = (n + grid_multiple - 1) / grid_multiple * grid_multiple; // divisible among ranks
         GlobalGrid g;
         g.dim = dim;
         g.cells = {n, n, dim == 3 ? n : 1};
@@ -230,7 +249,7 @@ int main(int argc, char** argv) {
         // The body on the whole grid: smoothed phi (tail cut like the body system's) and
         // the exact Gs.
         const Patch patch = make_patch(Box{{0, 0, 0}, g.cells}, dec);
-        Body body("capsule", BodyKind::Membrane, false, dim);
+        Body body("capsule", BodyKind::Membrane, Eb > 0, dim);
         body.allocate(patch);
         for_each_in(patch.local, [&](int i, int j, int k) {
             const Real3 x = position(g, dec.block(), Location::Cell, i, j, k);
@@ -241,6 +260,30 @@ int main(int argc, char** argv) {
             const real len = std::sqrt(X[0] * X[0] + X[1] * X[1] + X[2] * X[2]);
             const real v = 0.5 * (1 - std::tanh(rg * (len / R0 - 1) / eps));
             body.phi()(i, j, k) = v < 1e-8 ? 0.0 : v;
+            if (Eb > 0) {
+                real kr = 0;
+                if (kappa_r == "reference") {
+                    kr = 1 / len;
+                } else if (kappa_r == "current") {
+                    // L = (rg / R0) |X|, X = A^-1 y: grad L = (rg/R0) A^-T X/|X|,
+                    // H = (rg/R0) A^-T (I - X X/|X|^2) A^-1 / |X|.
+                    Tensor33 M{};
+                    for (int a = 0; a < 3; ++a)
+                        for (int b = 0; b < 3; ++b)
+                            M[a][b] = (a == b ? 1.0 : 0.0) - X[a] * X[b] / (len * len);
+                    Tensor33 H{};
+                    for (int a = 0; a < 3; ++a)
+                        for (int b = 0; b < 3; ++b)
+                            for (int e = 0; e < 3; ++e)
+                                for (int f = 0; f < 3; ++f)
+                                    H[a][b] += AinvT[a][e] * M[e][f] * Ainv[f][b] / len;
+                    const Real3 grad = mat_vec(AinvT, {X[0] / len, X[1] / len, X[2] / len});
+                    kr = level_set_curvature(H, grad, dim);
+                } else {
+                    kr = std::stod(kappa_r);
+                }
+                (*body.reference_curvature())(i, j, k) = kr;
+            }
             for (real& comp : X)
                 comp /= len;
             const Tensor33 G = surface_tensor(A, X);
@@ -257,6 +300,11 @@ int main(int argc, char** argv) {
         MembraneForceSettings settings;
         settings.stencil = gradient_stencil_from_string(stencil);
         settings.smoothing_width = width;
+        settings.bending_modulus = Eb;
+        settings.bending_width = bending_width;
+        settings.bending_kernel = kernel == "cosine"
+                                      ? MembraneForceSettings::BendingKernel::Cosine
+                                      : MembraneForceSettings::BendingKernel::Profile;
         MembraneForce membrane(g, halos, settings);
         const auto t0 = std::chrono::steady_clock::now();
         membrane.add(body, *law, force);
@@ -363,6 +411,19 @@ int main(int argc, char** argv) {
         for (real v : ex)
             ex_scale = std::max(ex_scale, std::abs(v));
         const std::size_t band = dec.sum(static_cast<std::int64_t>(membrane.band_cells()));
+        const std::size_t bcells = dec.sum(static_cast<std::int64_t>(membrane.bending_cells()));
+        const std::size_t bdrop = dec.sum(static_cast<std::int64_t>(membrane.bending_dropped()));
+        std::string bumps = "[", numeric = "[";
+        for (std::size_t m = 0; m < nb; ++m) {
+            const char* sep = m + 1 < nb ? ", " : "";
+            bumps += fmt::format("[{:.17g}, {:.17g}, {:.17g}]{}", centres[m][0], centres[m][1],
+                                 centres[m][2], sep);
+            numeric += fmt::format("[{:.17g}, {:.17g}, {:.17g}]{}", num[3 * m], num[3 * m + 1],
+                                   num[3 * m + 2], sep);
+        }
+        bumps += "]";
+        numeric += "]";
+        auto ratio = [](real a, real b) { return b > 0 ? a / b : 0.0; };
         if (dec.rank() == 0)
             fmt::print(
                 "{{\"map\": \"{}\", \"law\": \"{}\", \"dim\": {}, \"cells\": {}, \"grid\": {}, "
@@ -370,12 +431,19 @@ int main(int argc, char** argv) {
                 "\"normal_error\": {:.6e}, \"tangential_ratio\": {:.6e}, "
                 "\"net_force_ratio\": {:.3e}, \"exact_load\": {:.10g}, "
                 "\"quadrature_vs_closed_form\": {:.3e}, \"band_cells\": {}, "
-                "\"seconds\": {:.4f}, \"ranks\": {}}}\n",
-                map, law_name, dim, cells, n, width, stencil, std::sqrt(e2 / n2),
-                std::sqrt(nerr / nref), tang / (nb * std::sqrt(nref / nb)),
-                std::sqrt(net[0] * net[0] + net[1] * net[1] + net[2] * net[2]) / total_abs,
-                (dim == 3 ? 2 : 1) * T / R, map == "inflate" ? quad_check / ex_scale : 0.0, band,
-                seconds, dec.size());
+                "\"seconds\": {:.4f}, \"ranks\": {}, \"es\": {}, \"bending\": {}, "
+                "\"kappa_r\": \"{}\", \"kernel\": \"{}\", \"bending_width\": {}, "
+                "\"bending_cells\": {}, \"bending_dropped\": {}, \"R0\": {}, "
+                "\"centre\": [{:.17g}, {:.17g}, {:.17g}], \"bump_width\": {:.17g}, "
+                "\"A\": [[{:.17g}, {:.17g}, {:.17g}], [{:.17g}, {:.17g}, {:.17g}], "
+                "[{:.17g}, {:.17g}, {:.17g}]], \"bumps\": {}, \"numeric\": {}}}\n",
+                map, law_name, dim, cells, n, width, stencil, std::sqrt(ratio(e2, n2)),
+                std::sqrt(ratio(nerr, nref)), ratio(tang, nb * std::sqrt(nref / nb)),
+                ratio(std::sqrt(net[0] * net[0] + net[1] * net[1] + net[2] * net[2]), total_abs),
+                (dim == 3 ? 2 : 1) * T / R, map == "inflate" ? ratio(quad_check, ex_scale) : 0.0,
+                band, seconds, dec.size(), Es, Eb, kappa_r, kernel, bending_width, bcells, bdrop,
+                R0, c[0], c[1], c[2], ell, A[0][0], A[0][1], A[0][2], A[1][0], A[1][1], A[1][2],
+                A[2][0], A[2][1], A[2][2], bumps, numeric);
     }
     MPI_Finalize();
     return 0;
