@@ -142,10 +142,6 @@ void BodySystem::initialise_body(std::size_t i) {
         });
         for (Field& comp : body.tensor().comp)
             halos_.fill(comp, body.patch());
-    }
-}
-
-Box BodySystem::occupied_box(const Body& b) const {
         if (Field* kr = body.reference_curvature()) {
             // kappa_R = the curvature of the shape's level set through each point
             // (level_set_curvature: the mean curvature in 3D, the section's in 2D; 1/r
@@ -177,6 +173,10 @@ Box BodySystem::occupied_box(const Body& b) const {
             });
             halos_.fill(*kr, body.patch());
         }
+    }
+}
+
+Box BodySystem::occupied_box(const Body& b) const {
     const int big = std::numeric_limits<int>::max() / 2;
     std::array<real, 6> ext{real(big), real(big), real(big), real(-big), real(-big), real(-big)};
     const Int3 off = dec_.block().offset;

@@ -84,16 +84,16 @@ std::vector<BodyConfig> read_bodies(TableReader& top, const GlobalGrid& grid,
                                      "membrane: modulus Es of the law (neo-Hookean: Es = 3 Gs)");
         b.area_dilation = r.number("area_dilation", 1.0, Range::positive(), "-",
                                    "membrane, skalak: area-dilation constant C (alpha)");
-        r.finish();
-        if (KeyCatalogue::instance().documenting) continue;
-
-        const std::string at = fmt::format("body '{}'", b.name);
         b.bending_modulus =
             r.number("bending_modulus", 0.0, Range::non_negative(), "N m",
                      "membrane: bending modulus Eb of the moment m = Eb (kappa - kappa_R P) "
                      "(0: no bending); kappa_R starts as the initial shape's curvature (mean "
                      "curvature in 3D, the section's in 2D)");
         b.bending = b.bending_modulus > 0;
+        r.finish();
+        if (KeyCatalogue::instance().documenting) continue;
+
+        const std::string at = fmt::format("body '{}'", b.name);
         if (!names.insert(b.name).second) throw InputError(at + ": the name is used twice");
         if (b.shape == "biconcave" && b.radius == 0) b.radius = 3.91e-6;
         auto need = [&](bool ok, const char* key) {

@@ -41,10 +41,10 @@ struct BodyConfig {
     std::string law = "neo_hookean"; ///< neo_hookean | skalak
     real elastic_modulus = 0;        ///< Es [N/m]
     real area_dilation = 1;          ///< Skalak's C (alpha)
+    real bending_modulus = 0;        ///< Eb [N m] of m = Eb (kappa - kappa_R P); 0: no bending
 };
 
 struct VofConfig {
-    real bending_modulus = 0;        ///< Eb [N m] of m = Eb (kappa - kappa_R P); 0: no bending
     std::string scheme = "mthinc"; ///< mthinc | thinc
     real beta_thinc = 3.5;
     real beta_mthinc = 2.0;
