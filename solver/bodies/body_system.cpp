@@ -59,6 +59,10 @@ BodySystem::BodySystem(const Config& config, const Decomposition& dec, const Hal
         }
         vof_.push_back(std::make_unique<VofAdvection>(halos, body_vo));
         transport_.push_back(std::make_unique<BodyTransport>(halos));
+        // A solid's B is extended from its mostly solid cells into the rest (docs/method.md).
+        const bool extend = b.kind == "solid" && !b.pinned && b.extension_threshold > 0;
+        extension_.push_back(
+            extend ? std::make_unique<TensorExtension>(halos, b.extension_threshold) : nullptr);
         clipped_.push_back(0);
     }
 }
@@ -234,6 +238,7 @@ void BodySystem::advance(const VelocityField& u, real dt, long step, StageTimers
             const VofStepStats st = vof_[i]->advance(body.phi(), u, dt, step, &body.patch());
             clipped_[i] = st.clipped_volume;
         });
+        if (extension_[i]) timers.time("bodies_extension", [&] { extension_[i]->apply(body); });
     }
     timers.time("bodies_patches", [&] { track_patches(false); });
 }
@@ -324,6 +329,16 @@ std::vector<BodyDiagnostics> BodySystem::measure() const {
                    B = std::sqrt(std::max(mean - dev, 0.0));
         d.taylor_deformation = L + B > 0 ? (L - B) / (L + B) : 0.0;
         d.inclination_over_pi = 0.5 * std::atan2(2 * mxy, mxx - myy) / 3.141592653589793;
+        real trace_max = 0;
+        const SymmetricTensorField& T = b.tensor();
+        if (!b.patch().empty() && !T.comp.empty())
+            for_each_in(b.phi().owned(), [&](int a, int bb, int c) {
+                if (b.phi()(a, bb, c) <= 0) return;
+                const Int3 p{a, bb, c};
+                trace_max =
+                    std::max(trace_max, T.value(0, 0, p) + T.value(1, 1, p) + T.value(2, 2, p));
+            });
+        d.tensor_trace_max = dec_.max(trace_max);
         d.volume = v * g.cell_volume();
         d.phi_min = dec_.min(lo);
         d.phi_max = dec_.max(hi);

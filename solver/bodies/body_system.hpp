@@ -8,6 +8,7 @@
 #include "boundary/boundary.hpp"
 #include "config/config.hpp"
 #include "interface/vof_advection.hpp"
+#include "solid/tensor_extension.hpp"
 #include "time/stage_timers.hpp"
 
 #include <memory>
@@ -32,6 +33,9 @@ struct BodyDiagnostics {
     /// semi-axes, so L, B = the square roots of the eigenvalues of their x-y block.
     real taylor_deformation = 0;
     real inclination_over_pi = 0;
+    /// Largest tr(B) (solid) or tr(Gs) (membrane) over the cells with phi > 0 (0 without a
+    /// tensor): 3 at rest, and bounded in a steady deformation (docs/method.md, Solids).
+    real tensor_trace_max = 0;
 };
 
 class BodySystem {
@@ -64,6 +68,7 @@ class BodySystem {
     std::vector<std::unique_ptr<Body>> bodies_;
     std::vector<std::unique_ptr<VofAdvection>> vof_;
     std::vector<std::unique_ptr<BodyTransport>> transport_;
+    std::vector<std::unique_ptr<TensorExtension>> extension_; ///< null: B not extended
     std::vector<real> clipped_;
 };
 

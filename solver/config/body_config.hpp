@@ -33,6 +33,9 @@ struct BodyConfig {
     // Solid (visco neo-Hookean): sigma_s' = 2 mu_s D' + G B'.
     real shear_modulus = 0;    ///< G [Pa]
     real solid_viscosity = -1; ///< mu_s [Pa s]; < 0: the fluid's viscosity
+    /// B where phi < this is the extension of B from the cells above it (docs/method.md,
+    /// Solids); 0 turns the extension off. < 0: the default (0.5 sharp, 0 smoothed).
+    real extension_threshold = -1;
     /// Solid held in place: not transported, velocity inside penalised to zero by
     /// -(chi / tau) v with tau = pin_tau_over_dt * dt (docs/method.md, Solids).
     bool pinned = false;

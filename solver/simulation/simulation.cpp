@@ -95,7 +95,7 @@ Simulation::Simulation(const Config& config, const RunOptions& options, MPI_Comm
                 std::ofstream(opt_.output_dir / "bodies.csv")
                     << "step,time,body,volume,centroid_x,centroid_y,centroid_z,phi_min,phi_max,"
                        "clipped_volume,patch_cells,bytes,area,taylor_deformation,inclination_over_"
-                       "pi\n";
+                       "pi,tensor_trace_max\n";
         }
     }
     dec_->barrier();
@@ -208,11 +208,12 @@ void Simulation::write_outputs_if_due(bool final_step) {
                     std::ofstream out(opt_.output_dir / "bodies.csv", std::ios::app);
                     for (const auto& b : last_bodies_)
                         out << fmt::format("{},{:.10e},{},{:.12e},{:.10e},{:.10e},{:.10e},{:.6e},"
-                                           "{:.6e},{:.3e},{},{},{:.10e},{:.8e},{:.8e}\n",
+                                           "{:.6e},{:.3e},{},{},{:.10e},{:.8e},{:.8e},{:.8e}\n",
                                            s.step, s.time, b.name, b.volume, b.centroid[0],
                                            b.centroid[1], b.centroid[2], b.phi_min, b.phi_max,
                                            b.clipped_volume, b.patch_cells, b.bytes, b.area,
-                                           b.taylor_deformation, b.inclination_over_pi);
+                                           b.taylor_deformation, b.inclination_over_pi,
+                                           b.tensor_trace_max);
                 }
             }
         });
