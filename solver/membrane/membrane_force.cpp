@@ -42,6 +42,7 @@ Tensor33 membrane_stress_at(const Field& phi, const SymmetricTensorField& Gs,
         delta = 2 * c * (1 - c) / eps * mag;
     }
     in_band = mag > 0;
+    if (s.stencil == GradientStencil::Distance && mag < s.min_distance_gradient) in_band = false;
     Tensor33 S{};
     if (!in_band) return S;
     const Real3 n{gr[0] / mag, gr[1] / mag, gr[2] / mag};

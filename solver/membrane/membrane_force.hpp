@@ -63,6 +63,17 @@ struct MembraneForceSettings {
     /// profile and its normals are noise (a translated capsule blew up with 1e-7); 1e-4
     /// doubled the force error at 128 cells across, 1e-5 leaves it unchanged.
     real band_cutoff = 1e-5;
+    /// With the distance stencil, band cells also need |grad psi| >= this. psi =
+    /// eps atanh(2 phi - 1) is a distance (|grad psi| = 1) wherever phi is the tanh profile
+    /// of one surface; where it is not (tails sheared off the tips and advected away,
+    /// the overlap of the two sides of a capsule a few eps thick) |grad psi| falls well
+    /// below 1, the normal of phi is not the material normal that Gs carries (in the
+    /// continuum Gs n = 0 for the normal of any material level set), so P Gs P can lose
+    /// rank (J -> 0, neo-Hookean tension ~ 1/J^3) even where phi > band_cutoff. Measured
+    /// in the d/8 Ca 0.2 shear run that blew up at t = 2.9: every cell with J < 0.5 had
+    /// |grad psi| < 0.71, the blow-up cell 0.35 (phi = 1.3e-4, J: 0.17 -> 0). 1/2 keeps
+    /// the band cells of a resolved profile (|grad psi| = 1 + O(h^2)).
+    real min_distance_gradient = 0.5;
 
     /// Bending modulus Eb [N m] (J); 0: no bending (no bending fields, no bending work).
     real bending_modulus = 0;

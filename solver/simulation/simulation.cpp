@@ -31,6 +31,18 @@ Simulation::Simulation(const Config& config, const RunOptions& options, MPI_Comm
         read_checkpoint(opt_.restart_file, *dec_, *state_, clock_, body_list());
         for (Body* b : body_list())
             halos_->fill(b->phi(), b->patch());
+        // The checkpoint's next snapshot time follows the fields_interval of the run that
+        // wrote it; a restart may set another one (finer snapshots before a blow-up), which
+        // the stored time would ignore until it is reached. So the schedule is rebuilt on
+        // this run's interval: the first multiple of it after the restart time (same 1e-12
+        // tolerance as write_output). The stored time is kept when it is that multiple up
+        // to round-off (unchanged interval), so a restart stays bit for bit.
+        const real interval = cfg_.output.fields_interval;
+        if (interval > 0) {
+            const real next = interval * (std::floor(state_->time / interval + 1e-12) + 1);
+            if (std::abs(clock_.next_fields_time - next) > 1e-9 * interval)
+                clock_.next_fields_time = next;
+        }
     } else if (bodies_) {
         bodies_->initialise();
     }

@@ -26,3 +26,23 @@ for ranks in (1, 2):
             diff = np.abs(np.asarray(a[k], float) - np.asarray(b[k], float)).max()
             check(False, f"np{ranks}: {k} differs after restart (max {diff:.3e})")
     check(True, f"np{ranks}: restarted checkpoint identical bit for bit")
+
+# A restart with another fields_interval snapshots on the new interval: the checkpoint
+# written with fields_interval = 5 (next snapshot due at t = 5) continued to t = 0.5 with
+# fields_interval = 0.1 must write the snapshots after the restart time, not wait for t = 5.
+coarse = tg_grid(32) + ["time.end_time=0.5", "output.fields_interval=5.0"]
+part = os.path.join(args.output, "interval_change")
+run(args, "taylor_green", part, sets=coarse + ["time.max_steps=4"])
+t_restart = float(datasets(os.path.join(part, "checkpoint.h5"))["@time"])
+run(args, "taylor_green", part, sets=sets,
+    extra=["--restart", os.path.join(part, "checkpoint.h5")])
+with open(os.path.join(part, "fields", "index.txt")) as f:
+    times = [float(line.split()[1]) for line in f if line.strip()]
+later = [t for t in times if t > t_restart]
+# Every multiple of 0.1 after the restart time triggers a snapshot at the first step on or
+# after it (dt < 0.1 here); with the stored schedule only the final step (t = 0.5) would be.
+due = [0.1 * m for m in range(1, 6) if 0.1 * m > t_restart + 1e-12]
+missing = [m for m in due if not any(m - 1e-12 <= t < m + 0.1 for t in later)]
+check(len(later) >= 2 and not missing,
+      f"restart with a finer fields_interval: snapshots after t = {t_restart:.3g} at "
+      f"{[round(t, 3) for t in later]} (due {[round(m, 1) for m in due]})")
