@@ -37,8 +37,9 @@ Simulation::Simulation(const Config& config, const RunOptions& options, MPI_Comm
         // this run's interval: the first multiple of it after the restart time (same 1e-12
         // tolerance as write_output). The stored time is kept when it is that multiple up
         // to round-off (unchanged interval), so a restart stays bit for bit.
+        // Without field output the schedule is never advanced, so it is left as stored.
         const real interval = cfg_.output.fields_interval;
-        if (interval > 0) {
+        if (cfg_.output.fields && interval > 0) {
             const real next = interval * (std::floor(state_->time / interval + 1e-12) + 1);
             if (std::abs(clock_.next_fields_time - next) > 1e-9 * interval)
                 clock_.next_fields_time = next;
