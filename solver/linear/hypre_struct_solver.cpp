@@ -107,6 +107,52 @@ void StructuredSolver::assemble_operator() {
     impl_->destroy_solver(settings_.method); // a new operator needs a new set-up
 }
 
+namespace {
+
+/// Number of PFMG levels such that no direction is ever coarsened to a single cell.
+///
+/// PFMG semi-coarsens one direction per level, the one with the smallest spacing (hypre
+/// derives the spacings h_d from the matrix; lowest index on ties), and doubles it. A
+/// direction coarsened to one cell gives an exactly zero operator on the singular pressure
+/// problem (walls and periodic only; PCG then stopped at residuals of 1e-5) or, along a
+/// periodic direction, a cell coupled to itself. Counting log2(cells_d / 2) levels per
+/// direction is not enough on elongated grids: on the 4 x 64 parallel-slab grid PFMG
+/// takes x to two cells, y to 32, then x again (to one cell) before y is done; the
+/// pressure PCG then took 218 iterations at t = 0.3 and ran into the 500 cap later. So we
+/// follow PFMG's rule and stop before a direction with two cells could be chosen (near-ties
+/// count as ties, since hypre's spacings come from the coefficients). On that grid the
+/// coarsest level is 2 x 32 and PCG-PFMG needs 13 iterations (test
+/// ElongatedGridConvergesLikeASquareOne). Forcing the other order through
+/// HYPRE_StructPFMGSetDxyz (the long direction first, down to two cells) was tried: it
+/// coarsens the weakly coupled direction first and needed twice as many iterations.
+int pfmg_max_levels(const GlobalGrid& g, int dim) {
+    std::array<int, 3> cells{1, 1, 1};
+    std::array<double, 3> spacing{1, 1, 1};
+    for (int d = 0; d < dim; ++d) {
+        cells[d] = g.cells[d];
+        spacing[d] = g.dx(d);
+    }
+    int levels = 1;
+    for (;;) {
+        double smallest = 1e300;
+        for (int d = 0; d < dim; ++d)
+            if (cells[d] > 1) smallest = std::min(smallest, spacing[d]);
+        int chosen = -1;
+        bool blocked = false;
+        for (int d = 0; d < dim; ++d)
+            if (cells[d] > 1 && spacing[d] <= smallest * (1 + 1e-6)) {
+                blocked = blocked || cells[d] <= 2;
+                if (chosen < 0) chosen = d;
+            }
+        if (chosen < 0 || blocked) return levels;
+        cells[chosen] = (cells[chosen] + 1) / 2;
+        spacing[chosen] *= 2;
+        ++levels;
+    }
+}
+
+} // namespace
+
 SolveReport StructuredSolver::solve(const Field& rhs, Field& x, real absolute_tolerance) {
     const Int3 n = dec_.block().cells;
     buffer_.resize(std::size_t(dec_.block().count()));
@@ -134,16 +180,7 @@ SolveReport StructuredSolver::solve(const Field& rhs, Field& x, real absolute_to
         HYPRE_StructPFMGSetRAPType(s, 1);   // non-Galerkin coarse operators (cheaper, robust)
         HYPRE_StructPFMGSetNumPreRelax(s, 1);
         HYPRE_StructPFMGSetNumPostRelax(s, 1);
-        // Keep at least two cells in every direction on the coarsest level: PFMG
-        // semi-coarsens one direction per level, and a direction coarsened to a single
-        // cell gives an exactly zero operator on the singular pressure problem (walls and
-        // periodic only; PCG then stopped at residuals of 1e-5), or, along a periodic
-        // direction, a cell coupled to itself (PCG stalled on a 4-cell periodic box).
-        int levels = 1;
-        for (int d = 0; d < dec_.dim(); ++d)
-            for (int span = 2; span < dec_.grid().cells[d]; span *= 2)
-                ++levels;
-        HYPRE_StructPFMGSetMaxLevels(s, std::max(levels, 1));
+        HYPRE_StructPFMGSetMaxLevels(s, pfmg_max_levels(dec_.grid(), dec_.dim()));
         if (as_preconditioner) {
             HYPRE_StructPFMGSetMaxIter(s, 1);
             HYPRE_StructPFMGSetTol(s, 0.0);
