@@ -50,6 +50,9 @@ class Context:
         # EFSI_BIN lets a study run against another build (e.g. a debug build).
         self.efsi = Path(os.environ.get("EFSI_BIN", REPO / "build" / "bin" / "efsi"))
         self.python = "/usr/bin/python3"
+        # EFSI_VERIFY_RANKS: MPI ranks for the long cached runs (3D capsules); their results
+        # do not depend on it (rank_agreement: 1e-14), their wall time does.
+        self.long_ranks = int(os.environ.get("EFSI_VERIFY_RANKS", "1"))
         self.commands: list[str] = []
 
     def mpi_prefix(self, ranks: int) -> list[str]:

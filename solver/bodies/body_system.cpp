@@ -60,9 +60,21 @@ BodySystem::BodySystem(const Config& config, const Decomposition& dec, const Hal
         vof_.push_back(std::make_unique<VofAdvection>(halos, body_vo));
         transport_.push_back(std::make_unique<BodyTransport>(halos));
         // A solid's B is extended from its mostly solid cells into the rest (docs/method.md).
-        const bool extend = b.kind == "solid" && !b.pinned && b.extension_threshold > 0;
-        extension_.push_back(
-            extend ? std::make_unique<TensorExtension>(halos, b.extension_threshold) : nullptr);
+        // A membrane's Gs is extended from the core of its band to the whole band: layers
+        // enough to reach the band's edge (phi = band cutoff 1e-5, |psi| = 5.75 eps) from
+        // the core's (|psi| = eps atanh(1 - 2 t)), plus one for the force's stencil.
+        const bool extend = (b.kind == "solid" && !b.pinned && b.extension_threshold > 0) ||
+                            (b.kind == "membrane" && b.extension_threshold > 0);
+        int layers = 4;
+        if (b.kind == "membrane" && extend)
+            layers =
+                int(std::ceil((std::atanh(1 - 2e-5) - std::atanh(1 - 2 * b.extension_threshold)) *
+                              b.smoothing_width)) +
+                2;
+        extension_.push_back(extend
+                                 ? std::make_unique<TensorExtension>(halos, b.extension_threshold,
+                                                                     layers, b.kind == "membrane")
+                                 : nullptr);
         clipped_.push_back(0);
     }
 }

@@ -75,7 +75,9 @@ std::vector<BodyConfig> read_bodies(TableReader& top, const GlobalGrid& grid,
         b.extension_threshold =
             r.number("extension_threshold", -1.0, Range::closed(-1.0, 1.0), "-",
                      "solid: B in cells with phi below this is extended from the cells above it "
-                     "(0: off; negative: 0.5 for a sharp interface, 0 for a smoothed one)");
+                     "(0: off; negative: 0.5 for a sharp interface, 0 for a smoothed one); "
+                     "membrane: Gs outside the band core t <= phi <= 1 - t is extended from "
+                     "the core (0: off; negative: 0.01)");
         b.pinned = r.boolean("pinned", false,
                              "solid: fixed in space (not transported; the velocity inside is "
                              "penalised to zero, e.g. a vessel wall)");
@@ -114,9 +116,15 @@ std::vector<BodyConfig> read_bodies(TableReader& top, const GlobalGrid& grid,
             throw InputError(at + ": shape 'mask' needs body.mask_file");
         if (b.kind == "solid" && !b.pinned && !(b.shear_modulus > 0))
             throw InputError(at + ": kind = \"solid\" needs body.shear_modulus > 0 [Pa]");
-        if (b.kind != "solid" && b.extension_threshold >= 0)
-            throw InputError(at + ": extension_threshold is for kind = \"solid\"");
-        if (b.extension_threshold < 0) b.extension_threshold = b.interface == "sharp" ? 0.5 : 0.0;
+        if (b.kind == "passive" && b.extension_threshold >= 0)
+            throw InputError(at + ": extension_threshold is for solids and membranes");
+        if (b.kind == "membrane" && b.extension_threshold >= 0.5)
+            throw InputError(at + ": extension_threshold of a membrane must be < 0.5 (the band "
+                                  "core is t <= phi <= 1 - t)");
+        if (b.extension_threshold < 0)
+            b.extension_threshold = b.kind == "membrane"                          ? 0.01
+                                    : b.kind == "solid" && b.interface == "sharp" ? 0.5
+                                                                                  : 0.0;
         if (b.pinned && b.kind != "solid")
             throw InputError(at + ": pinned = true is only for kind = \"solid\"");
         if (b.kind != "solid" && (b.shear_modulus != 0 || b.solid_viscosity >= 0))

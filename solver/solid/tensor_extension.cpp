@@ -15,7 +15,9 @@ void TensorExtension::apply(Body& body) {
         level_ = Field::on_patch("extension_level", Location::Cell, phi.begin(), phi.cells(), dim);
     const Box cells = phi.owned();
     for_each_in(cells, [&](int i, int j, int k) {
-        level_(i, j, k) = phi(i, j, k) >= threshold_ ? 0.0 : -1.0;
+        const real v = phi(i, j, k);
+        const bool known = v >= threshold_ && (!two_sided_ || v <= 1 - threshold_);
+        level_(i, j, k) = known ? 0.0 : -1.0;
     });
     halos_.fill(level_, body.patch());
     for (Field& c : B.comp) // the transport leaves the halos at the old B

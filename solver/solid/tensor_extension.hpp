@@ -26,21 +26,32 @@
 
 namespace efsi {
 
+//
+// Membranes (two_sided): the same extension from the core of the band, threshold <= phi
+// <= 1 - threshold, to both sides. Gs stands for the stretch of the membrane, a surface,
+// but is transported with the velocity gradient of every band cell; in the outer band,
+// where the fluid outside shears past the capsule (and inside it tank-treads), Gs grows
+// without bound and loses positive definiteness (tr Gs ~ 300, det < 0 in the tails of the
+// d/8 Ca 0.2 shear run by t = 8.8, which then blew up). Extended from the core, Gs is
+// (nearly) constant across the band, as the surface tensor of a membrane is.
 class TensorExtension {
   public:
-    TensorExtension(const HaloFiller& halos, real threshold, int layers = 4)
-        : halos_(halos), threshold_(threshold), layers_(layers) {}
+    TensorExtension(const HaloFiller& halos, real threshold, int layers = 4, bool two_sided = false)
+        : halos_(halos), threshold_(threshold), layers_(layers), two_sided_(two_sided) {}
 
-    /// Replace the body's tensor where phi < threshold (phi's halos filled); fills the
-    /// tensor's halos. Returns nothing; collective.
+    /// Replace the body's tensor outside the known cells (phi >= threshold, and
+    /// phi <= 1 - threshold if two-sided; phi's halos filled); fills the tensor's halos.
+    /// Collective.
     void apply(Body& body);
 
     real threshold() const { return threshold_; }
+    int layers() const { return layers_; }
 
   private:
     const HaloFiller& halos_;
     real threshold_;
     int layers_;
+    bool two_sided_;
     Field level_; ///< 0: known from the start (phi >= threshold), k: set in layer k, -1: unknown
 };
 

@@ -39,7 +39,11 @@ def run(args, case, out=None, ranks=1, sets=(), extra=(), command="run", expect=
     for s in sets:
         cmd += ["--set", s]
     cmd += list(extra)
-    env = dict(os.environ, OMPI_ALLOW_RUN_AS_ROOT="1", OMPI_ALLOW_RUN_AS_ROOT_CONFIRM="1")
+    # Yield instead of busy-waiting: with more ranks than cores (4 ranks on the 2-core CI
+    # machine) busy-polling ranks starve the one with work; body_translation on 4 ranks took
+    # 284 s polling, 3.8 s yielding.
+    env = dict(os.environ, OMPI_ALLOW_RUN_AS_ROOT="1", OMPI_ALLOW_RUN_AS_ROOT_CONFIRM="1",
+               OMPI_MCA_mpi_yield_when_idle="1")
     proc = subprocess.run(cmd, capture_output=True, text=True, env=env, timeout=100)
     if expect is not None and proc.returncode != expect:
         fail(f"{' '.join(cmd)}\nexited {proc.returncode}, expected {expect}\n"

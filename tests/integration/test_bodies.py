@@ -2,10 +2,14 @@
 smoothed membrane circle translated diagonally through a periodic box for one period):
 (1) every body's volume is conserved to round-off (the VOF on moving patches drops nothing);
 (2) phi stays within [0, 1];
-(3) 1, 2 and 4 ranks agree to 1e-7 relative (bodies included). Not to round-off: the VOF
-    switches between no flux and the THINC flux where phi crosses its epsilon (1e-8), so
-    round-off differences between decompositions near that threshold grow to O(1e-8)
-    (flow-only runs agree to 1e-14, test_rank_agreement);
+(3) 1, 2 and 4 ranks agree to 1e-7 relative (bodies included) with the membrane's Gs
+    extension off. Not to round-off: the VOF switches between no flux and the THINC flux
+    where phi crosses its epsilon (1e-8), so round-off differences between decompositions
+    near that threshold grow to O(1e-8) (flow-only runs agree to 1e-14,
+    test_rank_agreement). With the extension on (the default), a cell whose phi is within
+    that O(1e-8) of the extension's threshold (0.01) is extended on one decomposition and
+    not on the other, which changes its Gs by O(1): the ranks then agree to 1e-5 (measured
+    1e-6 on 4 ranks);
 (4) a restart from a mid-run checkpoint repeats the uninterrupted run bit for bit;
 (5) a body's memory is its patch, far below a whole-grid copy until it crosses the seam."""
 import csv
@@ -38,14 +42,27 @@ for name in ("disc", "cell", "capsule"):
 first = {x["body"]: int(x["patch_cells"]) for x in rows if x["step"] == "0"}
 check(first["disc"] < 32 * 16, f"disc patch at start: {first['disc']} of {32 * 16} cells (not the whole grid)")
 
+
+def rank_agreement(label, sets, tolerance):
+    base = os.path.join(args.output, f"{label}_np1")
+    if sets == grid:
+        base = full
+    else:
+        run(args, "body_translation", base, sets=sets)
+    reference = datasets(os.path.join(base, "checkpoint.h5"))
+    for ranks in (2, 4):
+        out = os.path.join(args.output, f"{label}_np{ranks}")
+        run(args, "body_translation", out, ranks=ranks, sets=sets)
+        other = datasets(os.path.join(out, "checkpoint.h5"))
+        worst = max(float(np.max(np.abs(other[k] - v))) / max(1e-300, float(np.max(np.abs(v))))
+                    for k, v in reference.items())
+        check(worst <= tolerance, f"{label}: {ranks} ranks vs 1: max relative difference "
+              f"{worst:.1e} (<= {tolerance:g})")
+
+
+rank_agreement("no_gs_extension", grid + ["body[2].extension_threshold=0"], 1e-7)
+rank_agreement("default", grid, 1e-5)
 reference = datasets(os.path.join(full, "checkpoint.h5"))
-for ranks in (2, 4):
-    out = os.path.join(args.output, f"np{ranks}")
-    run(args, "body_translation", out, ranks=ranks, sets=grid)
-    other = datasets(os.path.join(out, "checkpoint.h5"))
-    worst = max(float(np.max(np.abs(other[k] - v))) / max(1e-300, float(np.max(np.abs(v))))
-                for k, v in reference.items())
-    check(worst <= 1e-7, f"{ranks} ranks vs 1: max relative difference {worst:.1e}")
 
 part = os.path.join(args.output, "part")
 run(args, "body_translation", part, sets=grid + ["time.max_steps=40"])

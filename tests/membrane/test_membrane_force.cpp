@@ -92,6 +92,53 @@ TEST(MembraneForce, UnstretchedSphereCarriesNoForce) {
     EXPECT_LT(total[0], 1e-4 * total[1]);
 }
 
+// The band keeps a cell only where the normal of phi is a normal of the surface Gs
+// carries (MembraneForceSettings::min_normal_consistency): J(P Gs P) >= J(Gs) / 2. A
+// resolved sphere loses no band cell to the check; with Gs = s^2 (I - e_x e_x), the
+// stretch of planes normal to x, J(P Gs P) / J(Gs) = |n_x| and only the cells with
+// |n_x| >= 1/2 stay (P Gs P would lose rank elsewhere and the tension ~ 1/J^3 explode).
+TEST(MembraneForce, BandKeepsOnlyNormalsConsistentWithGs) {
+    GridSetup s = make_setup(3, {38, 36, 34}, 1.0 / 16);
+    const auto law = make_membrane_law("neo_hookean", 1.0);
+    auto band_and_force = [&](Body& body, real consistency) {
+        MembraneForceSettings settings;
+        settings.min_normal_consistency = consistency;
+        MembraneForce membrane(s.g, *s.halos, settings);
+        VelocityField force("f", s.dec->block(), 3);
+        for (int d = 0; d < 3; ++d)
+            force[d].fill(0);
+        membrane.add(body, *law, force);
+        real largest = 0;
+        for (int d = 0; d < 3; ++d)
+            for_each_in(body.patch().local, [&](int i, int j, int k) {
+                largest = std::max(largest, std::abs(force[d](i, j, k)));
+            });
+        real band = real(membrane.band_cells());
+        return std::pair{global_sum(band), efsi::test::global_max(largest)};
+    };
+    const real stretch = 1.1;
+    Body body("capsule", BodyKind::Membrane, false, 3);
+    build_inflated(s, body, 0.375, stretch);
+    const auto [with_check, f_with] = band_and_force(body, 0.5);
+    const auto [without_check, f_without] = band_and_force(body, 0.0);
+    EXPECT_GT(with_check, 0.0);
+    EXPECT_EQ(with_check, without_check);
+    EXPECT_EQ(f_with, f_without);
+
+    // Gs of planes normal to x: consistent with phi's normal only near the x poles.
+    for_each_in(body.patch().local, [&](int i, int j, int k) {
+        for (int a = 0; a < 3; ++a)
+            for (int b = a; b < 3; ++b)
+                body.tensor().comp[SymmetricTensorField::slot(a, b, 3)](i, j, k) =
+                    stretch * stretch * ((a == b ? 1.0 : 0.0) - (a == 0 && b == 0 ? 1.0 : 0.0));
+    });
+    const auto [kept, f_kept] = band_and_force(body, 0.5);
+    EXPECT_GT(kept, 0.0);
+    // |n_x| >= 1/2 is the part of the sphere with |x| >= R/2: half its area.
+    EXPECT_NEAR(kept / with_check, 0.5, 0.1);
+    EXPECT_TRUE(std::isfinite(f_kept));
+}
+
 TEST(MembraneForce, InflatedCircleIsLoadedAlongItsNormal) {
     GridSetup s = make_setup(2, {88, 80, 1}, 1.0 / 32); // R = 19 cells
     const real R0 = 0.5, stretch = 1.2, Es = 1.0;

@@ -63,11 +63,12 @@ def run_one(ctx, dim: int, n: int, ca: float, t_end: float) -> Path:
             "grid.origin": f"[-4.0,-4.0,{-4.0 if dim == 3 else -h / 2!r}]",
             "body[0].elastic_modulus": repr(1.0 / ca), "time.end_time": repr(t_end),
             "output.fields_interval": "0.5", "output.checkpoint_every": "50",
-            "output.progress_every": "100000"}
+            "output.progress_every": "100000",
+            "case.description": repr(f"capsule in shear, {dim}D, Ca = {ca:g}, d/{n}")}
     extra = []
     if (out / "checkpoint.h5").exists():
         extra = ["--restart", str(out / "checkpoint.h5")]  # resume a cut-short run
-    ctx.run_efsi(case, out, sets=sets, extra=extra)
+    ctx.run_efsi(case, out, sets=sets, extra=extra, ranks=ctx.long_ranks if dim == 3 else 1)
     return out
 
 

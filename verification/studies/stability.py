@@ -69,7 +69,8 @@ def long_capsule(ctx, n: int, t_end: float, metrics: dict) -> dict:
     summ = out / "summary.json"
     if not (summ.exists() and json.loads(summ.read_text()).get("status") == "completed"):
         extra = ["--restart", str(out / "checkpoint.h5")] if (out / "checkpoint.h5").exists() else []
-        ctx.run_efsi(ctx.repo / "cases" / "capsule_shear", out, sets=sets, extra=extra)
+        ctx.run_efsi(ctx.repo / "cases" / "capsule_shear", out, sets=sets, extra=extra,
+                     ranks=ctx.long_ranks)
     with open(out / "bodies.csv") as fh:
         rows = [r for r in csv.DictReader(fh) if r["body"] == "capsule"]
     t = np.array([float(r["time"]) for r in rows])
