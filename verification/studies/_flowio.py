@@ -63,3 +63,48 @@ def pairwise_orders(h, e) -> list[float]:
 
 def fmt_list(v) -> str:
     return "[" + ",".join(repr(x) for x in v) + "]"
+
+
+# --- Cached capsule runs (capsule_shear, capsule_bending, stability) -----------------------
+
+def capsule_box_sets(dim: int, cells_per_diameter: int) -> dict:
+    """Grid of cases/capsule_shear(_2d): box 8 x 8 (x 8) = 4 d around the capsule (a = 1);
+    a 2D run is one cell thick in z."""
+    cells = 4 * cells_per_diameter
+    h = 8.0 / cells
+    return {"grid.cells": f"[{cells},{cells},{cells if dim == 3 else 1}]",
+            "grid.length": f"[8.0,8.0,{8.0 if dim == 3 else h!r}]",
+            "grid.origin": f"[-4.0,-4.0,{-4.0 if dim == 3 else -h / 2!r}]"}
+
+
+def completed(out: Path, t_end: float | None = None) -> bool:
+    """True when ``out`` holds a run that completed (at ``t_end``, if given)."""
+    summary = Path(out) / "summary.json"
+    if not summary.exists():
+        return False
+    s = json.loads(summary.read_text())
+    return s.get("status") == "completed" and (t_end is None or abs(s["time"] - t_end) < 1e-9)
+
+
+def cached_run(ctx, case: Path, out: Path, sets: dict, t_end: float | None = None,
+               ranks: int = 1) -> Path:
+    """Run ``case`` into ``out`` unless a completed run is there; a run cut short resumes
+    from its last checkpoint."""
+    if completed(out, t_end):
+        return out
+    extra = ["--restart", str(out / "checkpoint.h5")] if (out / "checkpoint.h5").exists() else []
+    ctx.run_efsi(case, out, sets=sets, extra=extra, ranks=ranks)
+    return out
+
+
+def body_series(out: Path, body: str = "capsule", columns=("taylor_deformation",
+                "inclination_over_pi", "volume")):
+    """Time and the given bodies.csv columns of one body, sorted by time (a restarted run
+    repeats the rows after its checkpoint)."""
+    import csv
+
+    with open(Path(out) / "bodies.csv") as f:
+        rows = [r for r in csv.DictReader(f) if r["body"] == body]
+    t = np.array([float(r["time"]) for r in rows])
+    order = np.argsort(t, kind="stable")
+    return (t[order], *(np.array([float(r[k]) for r in rows])[order] for k in columns))

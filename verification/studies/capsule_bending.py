@@ -21,6 +21,8 @@ from pathlib import Path
 
 import numpy as np
 
+from _flowio import body_series, cached_run, capsule_box_sets
+
 DESCRIPTION = "capsule in shear with bending (Eb/(a^2 Es) = 0.01, 0.05): D(t) vs no bending"
 
 # (dimension, cells per diameter, [Eb / (a^2 Es)], end time) per tier.
@@ -34,38 +36,18 @@ CA = 0.05
 
 
 def run_one(ctx, dim: int, n: int, ratio: float, t_end: float) -> Path:
-    key = f"{dim}d_n{n}_ca{CA:g}_eb{ratio:g}_t{t_end:g}"
-    out = ctx.outdir / "runs" / key
-    summary = out / "summary.json"
-    if summary.exists():
-        s = json.loads(summary.read_text())
-        if s.get("status") == "completed" and abs(s["time"] - t_end) < 1e-9:
-            return out  # cached
+    out = ctx.outdir / "runs" / f"{dim}d_n{n}_ca{CA:g}_eb{ratio:g}_t{t_end:g}"
     case = ctx.repo / "cases" / ("capsule_shear" if dim == 3 else "capsule_shear_2d")
-    cells = 4 * n
-    h = 8.0 / cells
     es = 1.0 / CA  # a = 1, mu = 1, shear rate 1
-    sets = {"grid.cells": f"[{cells},{cells},{cells if dim == 3 else 1}]",
-            "grid.length": f"[8.0,8.0,{8.0 if dim == 3 else h!r}]",
-            "grid.origin": f"[-4.0,-4.0,{-4.0 if dim == 3 else -h / 2!r}]",
-            "body[0].elastic_modulus": repr(es),
+    sets = {**capsule_box_sets(dim, n), "body[0].elastic_modulus": repr(es),
             "body[0].bending_modulus": repr(ratio * es),  # Eb = ratio a^2 Es, a = 1
             "time.end_time": repr(t_end), "output.fields_interval": "0.5",
             "output.checkpoint_every": "200", "output.progress_every": "100000"}
-    extra = []
-    if (out / "checkpoint.h5").exists():
-        extra = ["--restart", str(out / "checkpoint.h5")]
-    ctx.run_efsi(case, out, sets=sets, extra=extra)
-    return out
+    return cached_run(ctx, case, out, sets, t_end)
 
 
 def series(out: Path):
-    with open(out / "bodies.csv") as f:
-        rows = [r for r in csv.DictReader(f) if r["body"] == "capsule"]
-    t = np.array([float(r["time"]) for r in rows])
-    order = np.argsort(t, kind="stable")
-    col = lambda k: np.array([float(r[k]) for r in rows])[order]  # noqa: E731
-    return t[order], col("taylor_deformation"), col("inclination_over_pi"), col("volume")
+    return body_series(out)
 
 
 def run(ctx):

@@ -17,12 +17,13 @@ for every Ca, one colour per Ca, line style per resolution, Ramanujan & Pozrikid
 EFSI_VERIFY_CACHED_ONLY=1 reports only the runs already complete in the cache (a 3D d/32
 run costs hours); the runs it skipped are listed in the result's notes and table.
 """
-import csv
 import json
 import os
 from pathlib import Path
 
 import numpy as np
+
+from _flowio import body_series, cached_run, capsule_box_sets, completed
 
 DESCRIPTION = "capsule in shear: D(t) vs Ramanujan & Pozrikidis / Pozrikidis, volume drift, cost"
 
@@ -34,6 +35,21 @@ TIERS = {
              (3, 16, [0.0125, 0.025, 0.05, 0.1, 0.2]), (3, 32, [0.05, 0.2])],
 }
 T_END = {"ci": 1.0, "quick": 2.0, "full": 2.0}
+# Skalak capsules (3D, cells per diameter, Ca = mu shear_rate a / Es, area-dilation C), full
+# tier. The seed's Skalak form Ws = Es/6 (...) has the small-strain shear modulus
+# Gs = 2 Es / 3 (MODEL.md: Es/6 plays the role of Gs/4), so Ca_G = mu shear_rate a / Gs =
+# 1.5 Ca, and its surface Poisson ratio is nu_s = C / (1 + C). Small-deformation theory
+# (Barthes-Biesel & Rallison 1981, J Fluid Mech 113): D_inf = (5/4) (2 + nu_s) / (1 + nu_s)
+# Ca_G = (5/4) (2 + 3C) / (1 + 2C) Ca_G (the neo-Hookean capsule, nu_s = 1/2 and
+# Gs = Es/3, gives the familiar 25/4 Ca). With C = 1 (nu_s = 1/2) and Ca = 0.025 the
+# Skalak capsule has the small-strain moduli of the neo-Hookean one at Ca = 0.0125, so at
+# small deformation it must follow Pozrikidis (1995)'s Ca = 0.0125 curve; C = 10 deforms
+# less, by (32/21) / (5/3) = 0.914.
+SKALAK = {"ci": [], "quick": [], "full": [(16, 0.025, 1.0), (16, 0.025, 10.0)]}
+
+
+def skalak_linear_theory(ca: float, c: float) -> float:
+    return 1.25 * (2 + 3 * c) / (1 + 2 * c) * 1.5 * ca
 # Independent 2D references at shear-rate x t = 1 (reference/README.md): FE d/16, BI N=128.
 REF_2D = {0.05: {"fe": 0.3471, "bi": 0.3395}, 0.2: {"fe": 0.4161, "bi": 0.4116}}
 
@@ -47,43 +63,30 @@ def reference_curve(data: Path, ca: float):
     return name, pts
 
 
-def run_one(ctx, dim: int, n: int, ca: float, t_end: float) -> Path:
-    key = f"{dim}d_n{n}_ca{ca:g}_t{t_end:g}"
-    out = ctx.outdir / "runs" / key
-    summary = out / "summary.json"
-    if summary.exists():
-        s = json.loads(summary.read_text())
-        if s.get("status") == "completed" and abs(s["time"] - t_end) < 1e-9:
-            return out  # cached
+def run_one(ctx, dim: int, n: int, ca: float, t_end: float, skalak_c: float | None = None) -> Path:
     case = ctx.repo / "cases" / ("capsule_shear" if dim == 3 else "capsule_shear_2d")
-    cells = 4 * n
-    h = 8.0 / cells
-    sets = {"grid.cells": f"[{cells},{cells},{cells if dim == 3 else 1}]",
-            "grid.length": f"[8.0,8.0,{8.0 if dim == 3 else h!r}]",
-            "grid.origin": f"[-4.0,-4.0,{-4.0 if dim == 3 else -h / 2!r}]",
-            "body[0].elastic_modulus": repr(1.0 / ca), "time.end_time": repr(t_end),
-            "output.fields_interval": "0.5", "output.checkpoint_every": "50",
-            "output.progress_every": "100000",
+    sets = {**capsule_box_sets(dim, n), "body[0].elastic_modulus": repr(1.0 / ca),
+            "time.end_time": repr(t_end), "output.fields_interval": "0.5",
+            "output.checkpoint_every": "50", "output.progress_every": "100000",
             "case.description": repr(f"capsule in shear, {dim}D, Ca = {ca:g}, d/{n}")}
-    extra = []
-    if (out / "checkpoint.h5").exists():
-        extra = ["--restart", str(out / "checkpoint.h5")]  # resume a cut-short run
-    ctx.run_efsi(case, out, sets=sets, extra=extra, ranks=ctx.long_ranks if dim == 3 else 1)
-    return out
+    if skalak_c is not None:
+        sets["body[0].law"] = '"skalak"'
+        sets["body[0].area_dilation"] = repr(skalak_c)
+    return cached_run(ctx, case, run_dir(ctx, dim, n, ca, t_end, skalak_c), sets, t_end,
+                      ranks=ctx.long_ranks if dim == 3 else 1)
+
+
+def run_dir(ctx, dim: int, n: int, ca: float, t_end: float, skalak_c: float | None = None) -> Path:
+    law = "" if skalak_c is None else f"_skalak_C{skalak_c:g}"
+    return ctx.outdir / "runs" / f"{dim}d_n{n}{law}_ca{ca:g}_t{t_end:g}"
 
 
 def series(out: Path):
-    with open(out / "bodies.csv") as f:
-        rows = [r for r in csv.DictReader(f) if r["body"] == "capsule"]
-    t = np.array([float(r["time"]) for r in rows])
-    order = np.argsort(t, kind="stable")
-    col = lambda k: np.array([float(r[k]) for r in rows])[order]  # noqa: E731
-    return t[order], col("taylor_deformation"), col("inclination_over_pi"), col("volume")
+    return body_series(out)
 
 
-def cached(ctx, dim: int, n: int, ca: float, t_end: float) -> bool:
-    s = ctx.outdir / "runs" / f"{dim}d_n{n}_ca{ca:g}_t{t_end:g}" / "summary.json"
-    return s.exists() and json.loads(s.read_text()).get("status") == "completed"
+def cached(ctx, dim: int, n: int, ca: float, t_end: float, skalak_c: float | None = None) -> bool:
+    return completed(run_dir(ctx, dim, n, ca, t_end, skalak_c))
 
 
 def fig1d(data: Path, runs: list, png: Path) -> None:
@@ -129,7 +132,7 @@ def run(ctx):
     data = ctx.repo.parent / "shared" / "data" / "capsule_shear"
     t_end = T_END[ctx.tier]
     cached_only = os.environ.get("EFSI_VERIFY_CACHED_ONLY") == "1"
-    metrics, rows, skipped, runs3d = {}, [], [], []
+    metrics, rows, skipped, runs3d, runs_skalak = {}, [], [], [], []
     fig, ax = plt.subplots(1, 2, figsize=(12, 4.5))
     for dim, n, cas in TIERS[ctx.tier]:
         for ca in cas:
@@ -180,8 +183,55 @@ def run(ctx):
         png1d = ctx.outdir / "capsule_fig1d.png"
         fig1d(data, runs3d, png1d)
         figures.insert(0, str(png1d))
+    skalak_rows = []
+    for n, ca, c in SKALAK[ctx.tier]:
+        if cached_only and not cached(ctx, 3, n, ca, t_end, c):
+            skipped.append(f"3D d/{n} Skalak C {c:g} Ca {ca:g}")
+            continue
+        out = run_one(ctx, 3, n, ca, t_end, skalak_c=c)
+        t, d, th, vol = series(out)
+        lin = skalak_linear_theory(ca, c)
+        row = {"n": n, "Ca": ca, "C": c, "D_t1": float(np.interp(1.0, t, d)),
+               "D_end": float(d[-1]), "D_linear_theory": lin,
+               "D_end_over_linear": float(d[-1] / lin),
+               "inclination_end_over_pi": float(th[-1]),
+               "volume_drift": float(abs(vol[-1] - vol[0]) / vol[0]),
+               "wall_seconds": json.loads((out / "summary.json").read_text())["wall_seconds"]}
+        _, ref = reference_curve(data, 0.0125)  # same small-strain moduli when C = 1
+        if ref is not None:
+            lo, hi = max(0.2, ref[0, 0]), min(2.0, ref[-1, 0], t[-1])
+            mask = (t >= lo) & (t <= hi)
+            row["max_abs_D_minus_pozrikidis1995_ca0.0125"] = float(
+                np.max(np.abs(d[mask] - np.interp(t[mask], ref[:, 0], ref[:, 1]))))
+        tag = f"skalak_C{c:g}_ca{ca:g}_n{4 * n}"
+        metrics[f"D_end_{tag}"] = row["D_end"]
+        metrics[f"D_end_over_linear_theory_{tag}"] = row["D_end_over_linear"]
+        metrics[f"volume_drift_{tag}"] = row["volume_drift"]
+        skalak_rows.append(row)
+        runs_skalak.append((c, t, d))
+    if runs_skalak:
+        png_sk = ctx.outdir / "capsule_skalak.png"
+        fig, ax = plt.subplots(figsize=(6.5, 4.5))
+        _, ref = reference_curve(data, 0.0125)
+        if ref is not None:
+            ax.plot(ref[:, 0], ref[:, 1], "ko", ms=3, mfc="none",
+                    label="neo-Hookean Ca = 0.0125, Pozrikidis 1995 (same Gs, nu_s)")
+        for c, t, d in runs_skalak:
+            line, = ax.plot(t, d, "-", lw=2, label=f"efsi Skalak C = {c:g}, Ca = 0.025, d/16")
+            ax.axhline(skalak_linear_theory(0.025, c), color=line.get_color(), ls=":",
+                       label=f"small-deformation theory, C = {c:g}")
+        for n, ca, t, d in runs3d:
+            if ca == 0.0125:
+                ax.plot(t, d, "k--", label=f"efsi neo-Hookean Ca = 0.0125, d/{n}")
+        ax.set(xlabel="shear rate x t", ylabel="D", title="Skalak capsules in shear (3D, Re = 0.01)")
+        ax.legend(fontsize=7)
+        fig.tight_layout()
+        fig.savefig(png_sk, dpi=120)
+        plt.close(fig)
+        figures.append(str(png_sk))
     notes = "Runs are cached per parameters under runs/ and resumed from checkpoints."
     if skipped:
         notes += " Not run (EFSI_VERIFY_CACHED_ONLY=1, no cached result): " + ", ".join(skipped) + "."
-    return {"metrics": metrics, "tables": {"runs": rows, "not_run": [{"run": r} for r in skipped]},
+    return {"metrics": metrics, "tables": {"runs": rows, "skalak": skalak_rows,
+                                           "not_run": [{"run": r} for r in skipped]},
             "figures": figures, "notes": notes}

@@ -32,6 +32,8 @@ from pathlib import Path
 
 import numpy as np
 
+from _flowio import body_series, cached_run
+
 DESCRIPTION = "stability: fixed dt = k x automatic dt, status / NaN check / margin per case"
 
 # Per tier: capsule cells per diameter, Ca list, k list, end time, Re list (capsule, Ca 0.2).
@@ -67,16 +69,8 @@ def long_capsule(ctx, n: int, t_end: float, metrics: dict) -> dict:
             "time.end_time": repr(t_end), "output.fields_interval": repr(t_end / 2),
             "output.checkpoint_every": "100", "output.progress_every": "100000"}
     summ = out / "summary.json"
-    if not (summ.exists() and json.loads(summ.read_text()).get("status") == "completed"):
-        extra = ["--restart", str(out / "checkpoint.h5")] if (out / "checkpoint.h5").exists() else []
-        ctx.run_efsi(ctx.repo / "cases" / "capsule_shear", out, sets=sets, extra=extra,
-                     ranks=ctx.long_ranks)
-    with open(out / "bodies.csv") as fh:
-        rows = [r for r in csv.DictReader(fh) if r["body"] == "capsule"]
-    t = np.array([float(r["time"]) for r in rows])
-    vol = np.array([float(r["volume"]) for r in rows])
-    area = np.array([float(r["area"]) for r in rows])
-    dd = np.array([float(r["taylor_deformation"]) for r in rows])
+    cached_run(ctx, ctx.repo / "cases" / "capsule_shear", out, sets, ranks=ctx.long_ranks)
+    t, vol, area, dd = body_series(out, columns=("volume", "area", "taylor_deformation"))
     s = json.loads(summ.read_text())
     late = t >= min(2.0, t[-1] / 2)  # short (test) runs: the second half
     row = {"cells": cells, "t_end": float(t[-1]), "status": s["status"],
