@@ -13,7 +13,8 @@ import pytest
 REPO = Path(__file__).resolve().parents[2]
 sys.path.insert(0, str(REPO / "verification" / "studies"))
 
-import work_precision as wp  # noqa: E402
+import _wp_analysis as wp  # noqa: E402
+import _wp_problems as wpp  # noqa: E402
 
 
 def power_law(c, p, errors):
@@ -68,8 +69,8 @@ def test_p2_evaluation_is_exact_for_quadratics():
     y = np.linspace(0.0, 1.0, 9)                 # 4 P2 elements
     f = lambda x: 3 * x * x - x + 0.5            # noqa: E731
     x = np.linspace(0.0, 1.0, 101)
-    assert np.max(np.abs(wp.p2_eval(y, f(y), x) - f(x))) < 1e-13
+    assert np.max(np.abs(wpp.p2_eval(y, f(y), x) - f(x))) < 1e-13
     # and only piecewise quadratic: a cubic is not reproduced
     g = lambda x: x ** 3                         # noqa: E731
-    assert np.max(np.abs(wp.p2_eval(y, g(y), x) - g(x))) > 1e-4
-    assert math.isclose(float(wp.p2_eval(y, g(y), [0.25])[0]), 0.25 ** 3)
+    assert np.max(np.abs(wpp.p2_eval(y, g(y), x) - g(x))) > 1e-4
+    assert math.isclose(float(wpp.p2_eval(y, g(y), [0.25])[0]), 0.25 ** 3)
