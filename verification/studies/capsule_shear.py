@@ -155,7 +155,22 @@ def run(ctx):
                     metrics[f"max_abs_D_error_{tag}"] = err
                     row["max_abs_D_error"] = err
                     row["reference"] = name
+                    row["mean_D_minus_reference"] = float(np.mean(
+                        d[mask] - np.interp(t[mask], ref[:, 0], ref[:, 1])))
                     ax[0].plot(ref[:, 0], ref[:, 1], "o", ms=2.5, color="gray")
+                    # The other boundary-element curve, Pozrikidis (1995), over the same
+                    # interval: the spread of the two references is part of the uncertainty.
+                    other = data / f"pozrikidis1995_ca{ca:g}.csv"
+                    if name != "pozrikidis1995" and other.exists():
+                        p95 = np.array(sorted(tuple(map(float, line.split(",")))
+                                              for line in other.read_text().split()))
+                        m2 = mask & (t <= p95[-1, 0])
+                        diff = np.abs(d[m2] - np.interp(t[m2], p95[:, 0], p95[:, 1]))
+                        spread = np.abs(np.interp(t[m2], ref[:, 0], ref[:, 1]) -
+                                        np.interp(t[m2], p95[:, 0], p95[:, 1]))
+                        metrics[f"max_abs_D_diff_pozrikidis1995_{tag}"] = float(diff.max())
+                        metrics[f"reference_spread_ca{ca:g}"] = float(spread.max())
+                        row["max_abs_D_diff_pozrikidis1995"] = float(diff.max())
                 metrics[f"volume_drift_{tag}"] = drift
                 metrics[f"wall_seconds_{tag}"] = wall
                 ax[0].plot(t, d, "-", label=f"3D d/{n}, Ca={ca:g}")
