@@ -180,26 +180,22 @@ def run(ctx):
     cap_case = ctx.repo / "cases" / "capsule_shear_2d"
     metrics, table, per_case = {}, [], {}
 
-    for ca in cfg["cas"]:
-        label = f"capsule_ca{ca:g}"
-        dt_auto, rows = sweep(ctx, label, cap_case, capsule_sets(cfg["n"], ca, t_end), cfg["ks"])
+    def margin_sweep(label: str, case: Path, sets: dict, tag: str) -> None:
+        """dt sweep of one case: its rows, and stable_margin_<tag> (+ lower-bound flag, dt)."""
+        dt_auto, rows = sweep(ctx, label, case, sets, cfg["ks"])
         per_case[label] = rows
-        table += rows
+        table.extend(rows)
         m, lower = margin([r for r in rows if r["k"] != "auto"])
-        metrics[f"stable_margin_capsule_ca{ca:g}"] = m
-        metrics[f"stable_margin_capsule_ca{ca:g}_is_lower_bound"] = int(lower)
-        metrics[f"dt_auto_capsule_ca{ca:g}"] = dt_auto
+        metrics[f"stable_margin_{tag}"] = m
+        metrics[f"stable_margin_{tag}_is_lower_bound"] = int(lower)
+        metrics[f"dt_auto_{tag}"] = dt_auto
+
+    for ca in cfg["cas"]:
+        margin_sweep(f"capsule_ca{ca:g}", cap_case, capsule_sets(cfg["n"], ca, t_end),
+                     f"capsule_ca{ca:g}")
     metrics["stable_margin_capsule"] = min(metrics[f"stable_margin_capsule_ca{ca:g}"]
                                            for ca in cfg["cas"])
-
-    dt_auto, rows = sweep(ctx, "slab_G100", ctx.repo / "cases" / "parallel_slab",
-                          slab_sets(t_end), cfg["ks"])
-    per_case["slab_G100"] = rows
-    table += rows
-    m, lower = margin([r for r in rows if r["k"] != "auto"])
-    metrics["stable_margin_slab"] = m
-    metrics["stable_margin_slab_is_lower_bound"] = int(lower)
-    metrics["dt_auto_slab"] = dt_auto
+    margin_sweep("slab_G100", ctx.repo / "cases" / "parallel_slab", slab_sets(t_end), "slab")
 
     # Re sweep for the capsule at Ca = 0.2: automatic dt, then k = 1 and k = 2.
     re_rows = []
@@ -215,14 +211,8 @@ def run(ctx):
 
     # Resolution sweep for the capsule at Ca = 0.2 (the margin against cells per diameter).
     for n in cfg["grids"]:
-        label = f"capsule_ca0.2_n{4 * n}"
-        dt_auto, rows = sweep(ctx, label, cap_case, capsule_sets(n, 0.2, t_end), cfg["ks"])
-        per_case[label] = rows
-        table += rows
-        m, lower = margin([r for r in rows if r["k"] != "auto"])
-        metrics[f"stable_margin_capsule_n{4 * n}"] = m
-        metrics[f"stable_margin_capsule_n{4 * n}_is_lower_bound"] = int(lower)
-        metrics[f"dt_auto_capsule_n{4 * n}"] = dt_auto
+        margin_sweep(f"capsule_ca0.2_n{4 * n}", cap_case, capsule_sets(n, 0.2, t_end),
+                     f"capsule_n{4 * n}")
 
     long_row, long_series = (None, None)
     if cfg["long"]:
