@@ -62,7 +62,7 @@ Tensor33 membrane_stress_at(const Field& phi, const SymmetricTensorField& Gs,
     }
     const real JG2 = 0.5 * (trG * trG - trG2);
     const real c2 = s.min_normal_consistency * s.min_normal_consistency;
-    if (kin.IIs + 1 < c2 * JG2) {
+    if (JG2 < s.min_area_ratio * s.min_area_ratio || kin.IIs + 1 < c2 * JG2) {
         in_band = false;
         return S;
     }
