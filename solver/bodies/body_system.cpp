@@ -4,6 +4,7 @@
 #include "interface/geometry.hpp"
 #include "interface/shapes.hpp"
 #include "io/hdf5_file.hpp"
+#include "membrane/membrane_force.hpp"
 
 #include <fmt/core.h>
 
@@ -63,18 +64,18 @@ BodySystem::BodySystem(const Config& config, const Decomposition& dec, const Hal
         // A membrane's Gs is extended from the core of its band to the whole band: layers
         // enough to reach the band's edge (phi = band cutoff 1e-5, |psi| = 5.75 eps) from
         // the core's (|psi| = eps atanh(1 - 2 t)), plus one for the force's stencil.
-        const bool extend = (b.kind == "solid" && !b.pinned && b.extension_threshold > 0) ||
-                            (b.kind == "membrane" && b.extension_threshold > 0);
-        int layers = 4;
-        if (b.kind == "membrane" && extend)
-            layers =
-                int(std::ceil((std::atanh(1 - 2e-5) - std::atanh(1 - 2 * b.extension_threshold)) *
-                              b.smoothing_width)) +
-                2;
-        extension_.push_back(extend
-                                 ? std::make_unique<TensorExtension>(halos, b.extension_threshold,
-                                                                     layers, b.kind == "membrane")
-                                 : nullptr);
+        // (The reader leaves extension_threshold at 0 for passive bodies.)
+        const bool extend = b.extension_threshold > 0 && !b.pinned;
+        const bool membrane = b.kind == "membrane";
+        const real cutoff = MembraneForceSettings{}.band_cutoff;
+        const int layers = membrane ? int(std::ceil((std::atanh(1 - 2 * cutoff) -
+                                                     std::atanh(1 - 2 * b.extension_threshold)) *
+                                                    b.smoothing_width)) +
+                                          2
+                                    : 4;
+        extension_.push_back(extend ? std::make_unique<TensorExtension>(
+                                          halos, b.extension_threshold, layers, membrane)
+                                    : nullptr);
         clipped_.push_back(0);
     }
 }

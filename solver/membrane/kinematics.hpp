@@ -29,6 +29,18 @@ struct MembraneKinematics {
     real J = 1;    ///< area ratio sqrt(IIs + 1)
 };
 
+/// Second invariant (tr(A)^2 - tr(A A)) / 2 of a 3 x 3 tensor: lambda1^2 lambda2^2 = J^2 for
+/// a surface tensor (Bs, or Gs itself, whose third eigenvalue is 0).
+inline real second_invariant(const Tensor33& A) {
+    real tr = 0, tr2 = 0;
+    for (int a = 0; a < 3; ++a) {
+        tr += A[a][a];
+        for (int b = 0; b < 3; ++b)
+            tr2 += A[a][b] * A[b][a];
+    }
+    return 0.5 * (tr * tr - tr2);
+}
+
 /// Kinematics from a unit normal n and the (symmetric) surface tensor Gs.
 inline MembraneKinematics membrane_kinematics(const Real3& n, const Tensor33& Gs) {
     MembraneKinematics k;
@@ -47,14 +59,8 @@ inline MembraneKinematics membrane_kinematics(const Real3& n, const Tensor33& Gs
                 s += k.P[a][c] * GP[c][b];
             k.Bs[a][b] = s;
         }
-    real tr = 0, tr2 = 0;
-    for (int a = 0; a < 3; ++a) {
-        tr += k.Bs[a][a];
-        for (int b = 0; b < 3; ++b)
-            tr2 += k.Bs[a][b] * k.Bs[b][a];
-    }
-    k.Is = tr - 2;
-    k.IIs = 0.5 * (tr * tr - tr2) - 1;
+    k.Is = k.Bs[0][0] + k.Bs[1][1] + k.Bs[2][2] - 2;
+    k.IIs = second_invariant(k.Bs) - 1;
     // IIs + 1 = lambda1^2 lambda2^2 > 0 for any admissible Gs; the clamp only guards
     // against a round-off negative value where Gs is degenerate (far outside the band).
     k.J = std::sqrt(std::max(k.IIs + 1, real(1e-300)));

@@ -54,13 +54,7 @@ Tensor33 membrane_stress_at(const Field& phi, const SymmetricTensorField& Gs,
     // The normal of phi must be a normal of the surface Gs carries: then P Gs P keeps the
     // area ratio of Gs itself (Gs = F P_R F^T has rank 2, its second invariant is J^2 for
     // any n with Gs n = 0). See min_normal_consistency.
-    real trG = 0, trG2 = 0;
-    for (int a = 0; a < 3; ++a) {
-        trG += G[a][a];
-        for (int b = 0; b < 3; ++b)
-            trG2 += G[a][b] * G[b][a];
-    }
-    const real JG2 = 0.5 * (trG * trG - trG2);
+    const real JG2 = second_invariant(G);
     const real c2 = s.min_normal_consistency * s.min_normal_consistency;
     if (JG2 < s.min_area_ratio * s.min_area_ratio || kin.IIs + 1 < c2 * JG2) {
         in_band = false;
