@@ -46,6 +46,13 @@ T_END = {"ci": 1.0, "quick": 2.0, "full": 2.0}
 # small deformation it must follow Pozrikidis (1995)'s Ca = 0.0125 curve; C = 10 deforms
 # less, by (32/21) / (5/3) = 0.914.
 SKALAK = {"ci": [], "quick": [], "full": [(16, 0.025, 1.0), (16, 0.025, 10.0)]}
+# Interface-width sweep (3D, full tier): the smoothed membrane is 2 eps thick-ish (phi =
+# (1 - tanh(L / eps)) / 2 with eps = smoothing_width x h), and D depends on eps = w h, hardly
+# on h alone (d/8 with w = 0.5 and d/16 with w = 1 agree to 4e-4 in D). (Ca, [(cells per
+# diameter, w)]) with eps / a = 2 w / n = 0.5, 0.25, 0.125, 0.125, 0.0625.
+WIDTH_SWEEP = {"ci": [], "quick": [],
+               "full": [(0.025, [(8, 2.0), (8, 1.0), (8, 0.5), (16, 1.0), (16, 0.5)]),
+                        (0.05, [(8, 2.0), (8, 1.0), (8, 0.5), (16, 1.0), (16, 0.5)])]}
 
 
 def skalak_linear_theory(ca: float, c: float) -> float:
@@ -63,8 +70,17 @@ def reference_curve(data: Path, ca: float):
     return name, pts
 
 
-def run_one(ctx, dim: int, n: int, ca: float, t_end: float, skalak_c: float | None = None) -> Path:
+def run_one(ctx, dim: int, n: int, ca: float, t_end: float, skalak_c: float | None = None,
+            width: float = 1.0) -> Path:
     case = ctx.repo / "cases" / ("capsule_shear" if dim == 3 else "capsule_shear_2d")
+    sets = run_sets(dim, n, ca, t_end, skalak_c, width)
+    return cached_run(ctx, case, run_dir(ctx, dim, n, ca, t_end, skalak_c, width), sets, t_end,
+                      ranks=ctx.long_ranks if dim == 3 else 1)
+
+
+def run_sets(dim: int, n: int, ca: float, t_end: float, skalak_c: float | None = None,
+             width: float = 1.0) -> dict:
+    """The case keys of one run (also used to start a cached run by hand)."""
     sets = {**capsule_box_sets(dim, n), "body[0].elastic_modulus": repr(1.0 / ca),
             "time.end_time": repr(t_end), "output.fields_interval": "0.5",
             "output.checkpoint_every": "50", "output.progress_every": "100000",
@@ -72,13 +88,16 @@ def run_one(ctx, dim: int, n: int, ca: float, t_end: float, skalak_c: float | No
     if skalak_c is not None:
         sets["body[0].law"] = '"skalak"'
         sets["body[0].area_dilation"] = repr(skalak_c)
-    return cached_run(ctx, case, run_dir(ctx, dim, n, ca, t_end, skalak_c), sets, t_end,
-                      ranks=ctx.long_ranks if dim == 3 else 1)
+    if width != 1.0:
+        sets["body[0].smoothing_width"] = repr(width)
+    return sets
 
 
-def run_dir(ctx, dim: int, n: int, ca: float, t_end: float, skalak_c: float | None = None) -> Path:
+def run_dir(ctx, dim: int, n: int, ca: float, t_end: float, skalak_c: float | None = None,
+            width: float = 1.0) -> Path:
     law = "" if skalak_c is None else f"_skalak_C{skalak_c:g}"
-    return ctx.outdir / "runs" / f"{dim}d_n{n}{law}_ca{ca:g}_t{t_end:g}"
+    w = "" if width == 1.0 else f"_w{width:g}"
+    return ctx.outdir / "runs" / f"{dim}d_n{n}{law}{w}_ca{ca:g}_t{t_end:g}"
 
 
 def series(out: Path):
@@ -244,9 +263,99 @@ def run(ctx):
         fig.savefig(png_sk, dpi=120)
         plt.close(fig)
         figures.append(str(png_sk))
+    wrows = width_sweep(ctx, data, t_end, cached_only, skipped, metrics, figures)
     notes = "Runs are cached per parameters under runs/ and resumed from checkpoints."
     if skipped:
         notes += " Not run (EFSI_VERIFY_CACHED_ONLY=1, no cached result): " + ", ".join(skipped) + "."
     return {"metrics": metrics, "tables": {"runs": rows, "skalak": skalak_rows,
+                                           "interface_width": wrows,
                                            "not_run": [{"run": r} for r in skipped]},
             "figures": figures, "notes": notes}
+
+
+def width_sweep(ctx, data: Path, t_end: float, cached_only: bool, skipped: list, metrics: dict,
+                figures: list) -> list:
+    """D(t) against the interface width eps = w h at fixed Ca: error per eps, the observed
+    order in eps of D at t = 0.5, 1, 2 and the eps -> 0 (Richardson) estimate."""
+    import matplotlib.pyplot as plt
+
+    rows = []
+    for ca, runs in WIDTH_SWEEP[ctx.tier]:
+        name, ref = reference_curve(data, ca)
+        _, p95 = reference_curve(data, 0.0125) if ca == 0.0125 else (None, None)
+        p95f = data / f"pozrikidis1995_ca{ca:g}.csv"
+        if p95f.exists():
+            p95 = np.array(sorted(tuple(map(float, line.split(",")))
+                                  for line in p95f.read_text().split()))
+        curves = []
+        for n, w in runs:
+            if cached_only and not cached_w(ctx, n, ca, t_end, w):
+                skipped.append(f"3D d/{n} w {w:g} Ca {ca:g}")
+                continue
+            out = run_one(ctx, 3, n, ca, t_end, width=w)
+            t, d, th, vol = series(out)
+            eps = w * 2.0 / n  # in units of the radius a = 1
+            lo, hi = max(0.2, ref[0, 0]), min(2.0, ref[-1, 0], t[-1])
+            mask = (t >= lo) & (t <= hi)
+            err = float(np.max(np.abs(d[mask] - np.interp(t[mask], ref[:, 0], ref[:, 1]))))
+            row = {"n": n, "w": w, "eps_over_a": eps, "Ca": ca,
+                   "D_t0.5": float(np.interp(0.5, t, d)), "D_t1": float(np.interp(1.0, t, d)),
+                   "D_end": float(d[-1]), "max_abs_D_error": err,
+                   "volume_drift": float(abs(vol[-1] - vol[0]) / vol[0]),
+                   "wall_seconds": json.loads((out / "summary.json").read_text())["wall_seconds"]}
+            tag = f"ca{ca:g}_n{4 * n}_w{w:g}"
+            metrics[f"max_abs_D_error_{tag}"] = err
+            metrics[f"volume_drift_{tag}"] = row["volume_drift"]
+            rows.append(row)
+            curves.append((eps, n, w, t, d))
+        # Observed order in eps from the three widths eps, 2 eps, 4 eps (one run per eps:
+        # the finest grid for each), and the Richardson estimate of D at eps -> 0.
+        by_eps = {}
+        for eps, n, w, t, d in curves:
+            if eps not in by_eps or n > by_eps[eps][0]:
+                by_eps[eps] = (n, t, d)
+        e = sorted(by_eps)
+        if len(e) >= 3 and abs(e[1] / e[0] - 2) < 1e-9 and abs(e[2] / e[1] - 2) < 1e-9:
+            for tq in (0.5, 1.0, t_end):
+                v = [float(np.interp(tq, by_eps[x][1], by_eps[x][2])) for x in e[:3]]
+                if (v[2] - v[1]) * (v[1] - v[0]) <= 0:
+                    continue
+                p = float(np.log2((v[2] - v[1]) / (v[1] - v[0])))
+                d0 = v[0] - (v[1] - v[0]) / (2 ** p - 1)
+                metrics[f"D_eps_order_ca{ca:g}_t{tq:g}"] = p
+                metrics[f"D_eps_extrapolated_ca{ca:g}_t{tq:g}"] = d0
+                metrics[f"D_eps_extrapolated_minus_reference_ca{ca:g}_t{tq:g}"] = \
+                    d0 - float(np.interp(tq, ref[:, 0], ref[:, 1]))
+                if p95 is not None and tq <= p95[-1, 0]:
+                    metrics[f"D_eps_extrapolated_minus_pozrikidis1995_ca{ca:g}_t{tq:g}"] = \
+                        d0 - float(np.interp(tq, p95[:, 0], p95[:, 1]))
+        if curves:
+            png = ctx.outdir / f"capsule_width_ca{ca:g}.png"
+            fig, ax = plt.subplots(1, 2, figsize=(11, 4.3))
+            ax[0].plot(ref[:, 0], ref[:, 1], "k^", ms=4, mfc="none", label=name)
+            if p95 is not None:
+                ax[0].plot(p95[:, 0], p95[:, 1], "ko", ms=3, label="pozrikidis1995")
+            for eps, n, w, t, d in sorted(curves, key=lambda c: (-c[0], c[1])):
+                ax[0].plot(t, d, "-" if w == 1.0 else "--",
+                           label=f"d/{n}, w = {w:g} (eps = {eps:g} a)")
+                ax[1].plot(eps, float(np.interp(1.0, t, d)), "o" if w == 1.0 else "s")
+            ax[1].axhline(float(np.interp(1.0, ref[:, 0], ref[:, 1])), color="k", ls=":",
+                          label=f"{name}, t = 1")
+            k = f"D_eps_extrapolated_ca{ca:g}_t1"
+            if k in metrics:
+                ax[1].plot([0.0], [metrics[k]], "k*", ms=10, label="Richardson, eps -> 0")
+            ax[0].set(xlabel="shear rate x t", ylabel="D",
+                      title=f"3D capsule, Ca = {ca:g}: interface width eps = w h")
+            ax[1].set(xlabel="eps / a", ylabel="D at shear rate x t = 1", xlim=(-0.02, None),
+                      title="circles: w = 1, squares: other w")
+            for a in ax:
+                a.legend(fontsize=7)
+            fig.tight_layout()
+            fig.savefig(png, dpi=110)
+            plt.close(fig)
+            figures.append(str(png))
+    return rows
+
+
+def cached_w(ctx, n: int, ca: float, t_end: float, w: float) -> bool:
+    return completed(run_dir(ctx, 3, n, ca, t_end, None, w))

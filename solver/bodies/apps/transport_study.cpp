@@ -4,9 +4,13 @@
 //   Gs(x, t) = F (I - n_R n_R) F^T,  n_R = (X - c0)/|X - c0|,  X = exp(-A t) x,
 // the projection on the sphere of centre c0 through the material point. A is traceless
 // (solenoidal flow): "shear" A = [[0,1,0],[0,0,0],[0,0,0]] (F = I + A t exactly), or
-// "extension" A = diag(1, -1/2, -1/2) (2D: diag(1, -1)). The sphere (radius R) translates
+// "extension" A = diag(1, -1/2, -1/2) (2D: diag(1, -1)), or "rotation" about z,
+// A = [[0,-1,0],[1,0,0],[0,0,0]] (F = R(t), a rigid rotation: Gs stays the projection on the
+// rotated sphere and carries no strain, so any J(Gs) != 1 is spurious; this is what the
+// membrane's tank-treading asks of the transport). The sphere (radius R) translates
 // and deforms with the flow; errors are measured in the shell R/2 < |X - c0| < 3R/2.
-// Prints one JSON object: L2 and max errors of B and Gs (relative to |T|), steps, seconds.
+// Prints one JSON object: L2 and max errors of B and Gs (relative to |T|), the rms error of
+// the surface area ratio J(Gs) = sqrt(II(Gs)) on the shell, steps, seconds.
 #include "bodies/body.hpp"
 #include "bodies/transport.hpp"
 #include "boundary/boundary.hpp"
@@ -24,13 +28,30 @@ using namespace efsi;
 
 namespace {
 
-Matrix33 mat_exp_diag(const Matrix33& A, real t, bool shear) {
+enum class Flow { Shear, Extension, Rotation };
+
+/// exp(A t) for the three flows (nilpotent, diagonal, or the generator of z rotations).
+Matrix33 flow_map(const Matrix33& A, real t, Flow flow) {
     Matrix33 F{};
     for (int a = 0; a < 3; ++a)
         for (int b = 0; b < 3; ++b)
-            F[a][b] =
-                shear ? (a == b ? 1.0 : 0.0) + A[a][b] * t : (a == b ? std::exp(A[a][a] * t) : 0.0);
+            F[a][b] = flow == Flow::Shear ? (a == b ? 1.0 : 0.0) + A[a][b] * t
+                                          : (a == b ? std::exp(A[a][a] * t) : 0.0);
+    if (flow == Flow::Rotation) {
+        F = {{{std::cos(t), -std::sin(t), 0}, {std::sin(t), std::cos(t), 0}, {0, 0, 1}}};
+    }
     return F;
+}
+
+/// sqrt of the second invariant of a symmetric tensor: the area ratio of a surface tensor.
+real area_ratio(const Matrix33& G) {
+    real tr = 0, tr2 = 0;
+    for (int a = 0; a < 3; ++a) {
+        tr += G[a][a];
+        for (int b = 0; b < 3; ++b)
+            tr2 += G[a][b] * G[b][a];
+    }
+    return std::sqrt(std::max(0.5 * (tr * tr - tr2), 0.0));
 }
 
 Real3 mat_vec(const Matrix33& M, const Real3& x) {
@@ -42,10 +63,10 @@ Real3 mat_vec(const Matrix33& M, const Real3& x) {
 }
 
 /// Exact Gs (or B when `projection` is false) at lab point x, time t.
-Matrix33 exact(const Matrix33& A, bool shear, const Real3& c0, const Real3& x, real t,
+Matrix33 exact(const Matrix33& A, Flow flow, const Real3& c0, const Real3& x, real t,
                bool projection, int dim) {
-    const Matrix33 F = mat_exp_diag(A, t, shear);
-    const Matrix33 Finv = mat_exp_diag(A, -t, shear);
+    const Matrix33 F = flow_map(A, t, flow);
+    const Matrix33 Finv = flow_map(A, -t, flow);
     const Real3 X = mat_vec(Finv, x);
     Real3 n{};
     real len = 0;
@@ -78,14 +99,16 @@ int main(int argc, char** argv) {
         std::string flow = "shear";
         int cells = 32, dim = 3;
         real end_time = 0.5, cfl = 0.4;
-        app.add_option("--flow", flow, "shear or extension")
-            ->check(CLI::IsMember({"shear", "extension"}));
+        app.add_option("--flow", flow, "shear, extension or rotation")
+            ->check(CLI::IsMember({"shear", "extension", "rotation"}));
         app.add_option("--cells", cells, "cells across the box [-1,1]^dim");
         app.add_option("--dim", dim, "2 or 3")->check(CLI::IsMember({2, 3}));
         app.add_option("--time", end_time, "end time (shear-rate units)");
         app.add_option("--cfl", cfl, "dt = cfl * h / max|v|");
         CLI11_PARSE(app, argc, argv);
-        const bool shear = flow == "shear";
+        const Flow kind = flow == "shear"       ? Flow::Shear
+                          : flow == "extension" ? Flow::Extension
+                                                : Flow::Rotation;
 
         GlobalGrid g;
         g.dim = dim;
@@ -99,8 +122,10 @@ int main(int argc, char** argv) {
         HaloFiller halos(dec, bc);
 
         Matrix33 A{};
-        if (shear)
+        if (kind == Flow::Shear)
             A[0][1] = 1;
+        else if (kind == Flow::Rotation)
+            A = {{{0, -1, 0}, {1, 0, 0}, {0, 0, 0}}};
         else if (dim == 3)
             A = {{{1, 0, 0}, {0, -0.5, 0}, {0, 0, -0.5}}};
         else
@@ -127,7 +152,7 @@ int main(int argc, char** argv) {
         membrane.allocate(patch);
         for_each_in(patch.local, [&](int i, int j, int k) {
             const Real3 x = position(g, dec.block(), Location::Cell, i, j, k);
-            const Matrix33 G0 = exact(A, shear, c0, x, 0.0, true, dim);
+            const Matrix33 G0 = exact(A, kind, c0, x, 0.0, true, dim);
             for (int a = 0; a < 3; ++a)
                 for (int b = a; b < 3; ++b) {
                     const int s = SymmetricTensorField::slot(a, b, dim);
@@ -136,8 +161,12 @@ int main(int argc, char** argv) {
         });
         BodyTransport transport(halos);
         real vmax = 0;
-        for (int d = 0; d < dim; ++d)
-            vmax = std::max(vmax, std::abs(A[d][d]) + (shear ? 1.0 : 0.0));
+        for (int d = 0; d < dim; ++d) {
+            real row = 0;
+            for (int e = 0; e < dim; ++e)
+                row += std::abs(A[d][e]);
+            vmax = std::max(vmax, row);
+        }
         const real h = g.dx(0);
         const int steps = int(std::ceil(end_time / (cfl * h / vmax)));
         const real dt = end_time / steps;
@@ -150,9 +179,9 @@ int main(int argc, char** argv) {
             std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
 
         // Errors over the material shell R/2 < |X - c0| < 3R/2.
-        real e2[2] = {0, 0}, emax[2] = {0, 0}, norm2[2] = {0, 0};
+        real e2[2] = {0, 0}, emax[2] = {0, 0}, norm2[2] = {0, 0}, j2 = 0;
         std::int64_t count = 0;
-        const Matrix33 Finv = mat_exp_diag(A, -end_time, shear);
+        const Matrix33 Finv = flow_map(A, -end_time, kind);
         for_each_in(patch.local, [&](int i, int j, int k) {
             const Real3 x = position(g, dec.block(), Location::Cell, i, j, k);
             const Real3 X = mat_vec(Finv, x);
@@ -164,14 +193,17 @@ int main(int argc, char** argv) {
             ++count;
             const Body* bodies[2] = {&solid, &membrane};
             for (int m = 0; m < 2; ++m) {
-                const Matrix33 E = exact(A, shear, c0, x, end_time, m == 1, dim);
+                const Matrix33 E = exact(A, kind, c0, x, end_time, m == 1, dim);
+                Matrix33 T{};
                 for (int a = 0; a < 3; ++a)
                     for (int b = 0; b < 3; ++b) {
-                        const real diff = bodies[m]->tensor().value(a, b, {i, j, k}) - E[a][b];
+                        T[a][b] = bodies[m]->tensor().value(a, b, {i, j, k});
+                        const real diff = T[a][b] - E[a][b];
                         e2[m] += diff * diff;
                         norm2[m] += E[a][b] * E[a][b];
                         emax[m] = std::max(emax[m], std::abs(diff));
                     }
+                if (m == 1) j2 += std::pow(area_ratio(T) - area_ratio(E), 2);
             }
         });
         count = dec.sum(count);
@@ -180,14 +212,17 @@ int main(int argc, char** argv) {
             norm2[m] = dec.sum(norm2[m]);
             emax[m] = dec.max(emax[m]);
         }
+        j2 = dec.sum(j2);
         if (dec.rank() == 0)
             fmt::print(
                 "{{\"flow\": \"{}\", \"dim\": {}, \"cells\": {}, \"steps\": {}, \"dt\": {:.6e}, "
                 "\"B_error_L2\": {:.6e}, \"B_error_max\": {:.6e}, \"Gs_error_L2\": {:.6e}, "
-                "\"Gs_error_max\": {:.6e}, \"shell_cells\": {}, \"seconds\": {:.4f}, "
+                "\"Gs_error_max\": {:.6e}, \"J_error_rms\": {:.6e}, \"shell_cells\": {}, "
+                "\"seconds\": {:.4f}, "
                 "\"bytes_per_body\": {}, \"ranks\": {}}}\n",
                 flow, dim, cells, steps, dt, std::sqrt(e2[0] / norm2[0]), emax[0],
-                std::sqrt(e2[1] / norm2[1]), emax[1], count, seconds, membrane.bytes(), dec.size());
+                std::sqrt(e2[1] / norm2[1]), emax[1], std::sqrt(j2 / double(count)), count, seconds,
+                membrane.bytes(), dec.size());
     }
     MPI_Finalize();
     return code;
