@@ -308,27 +308,33 @@ def width_sweep(ctx, data: Path, t_end: float, cached_only: bool, skipped: list,
             metrics[f"volume_drift_{tag}"] = row["volume_drift"]
             rows.append(row)
             curves.append((eps, n, w, t, d))
-        # Observed order in eps from the three widths eps, 2 eps, 4 eps (one run per eps:
-        # the finest grid for each), and the Richardson estimate of D at eps -> 0.
-        by_eps = {}
-        for eps, n, w, t, d in curves:
-            if eps not in by_eps or n > by_eps[eps][0]:
-                by_eps[eps] = (n, t, d)
-        e = sorted(by_eps)
-        if len(e) >= 3 and abs(e[1] / e[0] - 2) < 1e-9 and abs(e[2] / e[1] - 2) < 1e-9:
+        # Observed order in eps at fixed h (one grid, widths w, w/2, w/4: the smallest three
+        # at ratio 2) and the Richardson estimate of D at eps -> 0; and, at fixed eps, the
+        # effect of h alone (the same eps on two grids).
+        for n in sorted({c[1] for c in curves}):
+            fam = sorted((c for c in curves if c[1] == n), key=lambda c: c[0])
+            if len(fam) < 3 or any(abs(fam[i + 1][0] / fam[i][0] - 2) > 1e-9 for i in range(2)):
+                continue
             for tq in (0.5, 1.0, t_end):
-                v = [float(np.interp(tq, by_eps[x][1], by_eps[x][2])) for x in e[:3]]
+                v = [float(np.interp(tq, c[3], c[4])) for c in fam[:3]]
                 if (v[2] - v[1]) * (v[1] - v[0]) <= 0:
                     continue
                 p = float(np.log2((v[2] - v[1]) / (v[1] - v[0])))
                 d0 = v[0] - (v[1] - v[0]) / (2 ** p - 1)
-                metrics[f"D_eps_order_ca{ca:g}_t{tq:g}"] = p
-                metrics[f"D_eps_extrapolated_ca{ca:g}_t{tq:g}"] = d0
-                metrics[f"D_eps_extrapolated_minus_reference_ca{ca:g}_t{tq:g}"] = \
+                tag = f"ca{ca:g}_n{4 * n}_t{tq:g}"
+                metrics[f"D_eps_order_{tag}"] = p
+                metrics[f"D_eps_extrapolated_{tag}"] = d0
+                metrics[f"D_eps_extrapolated_minus_reference_{tag}"] = \
                     d0 - float(np.interp(tq, ref[:, 0], ref[:, 1]))
                 if p95 is not None and tq <= p95[-1, 0]:
-                    metrics[f"D_eps_extrapolated_minus_pozrikidis1995_ca{ca:g}_t{tq:g}"] = \
+                    metrics[f"D_eps_extrapolated_minus_pozrikidis1995_{tag}"] = \
                         d0 - float(np.interp(tq, p95[:, 0], p95[:, 1]))
+        for a in curves:
+            for b in curves:
+                if abs(a[0] - b[0]) < 1e-12 and b[1] == 2 * a[1]:
+                    for tq in (0.5, 1.0, t_end):
+                        metrics[f"D_h_effect_at_fixed_eps_ca{ca:g}_eps{a[0]:g}_t{tq:g}"] = float(
+                            np.interp(tq, b[3], b[4]) - np.interp(tq, a[3], a[4]))
         if curves:
             png = ctx.outdir / f"capsule_width_ca{ca:g}.png"
             fig, ax = plt.subplots(1, 2, figsize=(11, 4.3))
@@ -341,9 +347,10 @@ def width_sweep(ctx, data: Path, t_end: float, cached_only: bool, skipped: list,
                 ax[1].plot(eps, float(np.interp(1.0, t, d)), "o" if w == 1.0 else "s")
             ax[1].axhline(float(np.interp(1.0, ref[:, 0], ref[:, 1])), color="k", ls=":",
                           label=f"{name}, t = 1")
-            k = f"D_eps_extrapolated_ca{ca:g}_t1"
-            if k in metrics:
-                ax[1].plot([0.0], [metrics[k]], "k*", ms=10, label="Richardson, eps -> 0")
+            for k in [k for k in metrics if k.startswith(f"D_eps_extrapolated_ca{ca:g}_n")
+                      and k.endswith("_t1")]:
+                ax[1].plot([0.0], [metrics[k]], "k*", ms=10,
+                           label=f"Richardson eps -> 0 ({k.split('_')[4]})")
             ax[0].set(xlabel="shear rate x t", ylabel="D",
                       title=f"3D capsule, Ca = {ca:g}: interface width eps = w h")
             ax[1].set(xlabel="eps / a", ylabel="D at shear rate x t = 1", xlim=(-0.02, None),
