@@ -6,6 +6,7 @@ from __future__ import annotations
 import json
 import math
 import os
+import re
 import sys
 import time
 from pathlib import Path
@@ -303,6 +304,10 @@ def capsule_3d(ctx, cfg):
     series, skipped = {}, []
     # cached runs of the capsule_shear study (1 rank; their own timer)
     for run in sorted(cache.glob("3d_n*_ca*_t2")):
+        # the neo-Hookean runs at the default width only (not the Skalak or width sweeps)
+        key = re.fullmatch(r"3d_n(\d+)_ca([0-9.]+)_t2", run.name)
+        if key is None:
+            continue
         sfile = run / "summary.json"
         if not sfile.exists():
             skipped.append(f"{run.name}: not finished")
@@ -314,8 +319,7 @@ def capsule_3d(ctx, cfg):
         if s.get("restarted_from"):
             skipped.append(f"{run.name}: resumed from a checkpoint, wall time incomplete")
             continue
-        n = int(run.name.split("_")[1][1:])
-        ca = float(run.name.split("_")[2][2:])
+        n, ca = int(key.group(1)), float(key.group(2))
         m = measure(run, ca)
         if m is None:
             continue
