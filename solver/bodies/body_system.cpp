@@ -241,6 +241,10 @@ void BodySystem::track_patches(bool force) {
 }
 
 void BodySystem::advance(const VelocityField& u, real dt, long step, StageTimers& timers) {
+    // Body after body with no global reduction in between (only the halo exchanges of each
+    // patch, among the ranks it spans): a rank that holds one body does not wait while
+    // another rank advances a different one. The VOF statistics are reduced afterwards.
+    std::vector<VofStepStats> local(bodies_.size());
     for (std::size_t i = 0; i < bodies_.size(); ++i) {
         if (cfg_.bodies[i].pinned) continue; // held at its initial phi (and B = I)
         Body& body = *bodies_[i];
@@ -248,11 +252,15 @@ void BodySystem::advance(const VelocityField& u, real dt, long step, StageTimers
         if (!body.tensor().comp.empty())
             timers.time("bodies_tensor", [&] { transport_[i]->advance(body, u, dt); });
         timers.time("bodies_vof", [&] {
-            const VofStepStats st = vof_[i]->advance(body.phi(), u, dt, step, &body.patch());
-            clipped_[i] = st.clipped_volume;
+            local[i] = vof_[i]->advance_local(body.phi(), u, dt, step, &body.patch());
         });
         if (extension_[i]) timers.time("bodies_extension", [&] { extension_[i]->apply(body); });
     }
+    timers.time("bodies_vof_reduce", [&] {
+        for (std::size_t i = 0; i < bodies_.size(); ++i)
+            if (!cfg_.bodies[i].pinned)
+                clipped_[i] = VofAdvection::reduce(dec_, local[i]).clipped_volume;
+    });
     timers.time("bodies_patches", [&] { track_patches(false); });
 }
 

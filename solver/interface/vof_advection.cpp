@@ -141,8 +141,12 @@ void VofAdvection::sweep(Field& phi, const VelocityField& u, real dt, int d, con
 
 VofStepStats VofAdvection::advance(Field& phi, const VelocityField& u, real dt, std::int64_t step,
                                    const Patch* patch) {
-    const Decomposition& dec = halos_.decomposition();
-    const int dim = dec.dim();
+    return reduce(halos_.decomposition(), advance_local(phi, u, dt, step, patch));
+}
+
+VofStepStats VofAdvection::advance_local(Field& phi, const VelocityField& u, real dt,
+                                         std::int64_t step, const Patch* patch) {
+    const int dim = halos_.decomposition().dim();
     // Work arrays follow phi's box (the whole block, or a body's moving patch).
     if (chi_.begin() != phi.begin() || chi_.cells() != phi.cells() || chi_.data().empty()) {
         chi_ = Field::on_patch("vof_chi", Location::Cell, phi.begin(), phi.cells(), dim);
@@ -159,6 +163,10 @@ VofStepStats VofAdvection::advance(Field& phi, const VelocityField& u, real dt, 
             sweep(phi, u, dt, d, patch, local);
         }
     }
+    return local;
+}
+
+VofStepStats VofAdvection::reduce(const Decomposition& dec, const VofStepStats& local) {
     VofStepStats st;
     st.min_before_clip = dec.min(local.min_before_clip);
     st.max_before_clip = dec.max(local.max_before_clip);

@@ -72,6 +72,18 @@ class VofAdvection {
     VofStepStats advance(Field& phi, const VelocityField& u, real dt, std::int64_t step,
                          const Patch* patch = nullptr);
 
+    /// advance() without its reductions: returns this rank's statistics, to be passed to
+    /// reduce(). Many bodies advance their phi with advance_local one after the other and
+    /// reduce afterwards, so that ranks holding different bodies do not wait for each
+    /// other at every body (the patch halo exchanges stay per body: they are collective
+    /// only among the ranks a patch spans).
+    VofStepStats advance_local(Field& phi, const VelocityField& u, real dt, std::int64_t step,
+                               const Patch* patch = nullptr);
+
+    /// Global statistics from every rank's local ones (collective). Throws RunError when
+    /// a Courant number reached 1/2.
+    static VofStepStats reduce(const Decomposition& dec, const VofStepStats& local);
+
     const VofOptions& options() const { return opt_; }
 
   private:
