@@ -61,13 +61,17 @@ def skalak_linear_theory(ca: float, c: float) -> float:
 REF_2D = {0.05: {"fe": 0.3471, "bi": 0.3395}, 0.2: {"fe": 0.4161, "bi": 0.4116}}
 
 
+def read_curve(f: Path):
+    """A digitised (t, D) curve, sorted by t; None when the file is absent."""
+    if not f.exists():
+        return None
+    return np.array(sorted(tuple(map(float, line.split(","))) for line in f.read_text().split()))
+
+
 def reference_curve(data: Path, ca: float):
     name = "pozrikidis1995" if ca == 0.0125 else "ramanujan_pozrikidis1998"
-    f = data / f"{name}_ca{ca:g}.csv"
-    if not f.exists():
-        return None, None
-    pts = np.array(sorted(tuple(map(float, line.split(","))) for line in f.read_text().split()))
-    return name, pts
+    pts = read_curve(data / f"{name}_ca{ca:g}.csv")
+    return (name, pts) if pts is not None else (None, None)
 
 
 def run_one(ctx, dim: int, n: int, ca: float, t_end: float, skalak_c: float | None = None,
@@ -179,10 +183,8 @@ def run(ctx):
                     ax[0].plot(ref[:, 0], ref[:, 1], "o", ms=2.5, color="gray")
                     # The other boundary-element curve, Pozrikidis (1995), over the same
                     # interval: the spread of the two references is part of the uncertainty.
-                    other = data / f"pozrikidis1995_ca{ca:g}.csv"
-                    if name != "pozrikidis1995" and other.exists():
-                        p95 = np.array(sorted(tuple(map(float, line.split(",")))
-                                              for line in other.read_text().split()))
+                    p95 = read_curve(data / f"pozrikidis1995_ca{ca:g}.csv")
+                    if name != "pozrikidis1995" and p95 is not None:
                         m2 = mask & (t <= p95[-1, 0])
                         diff = np.abs(d[m2] - np.interp(t[m2], p95[:, 0], p95[:, 1]))
                         spread = np.abs(np.interp(t[m2], ref[:, 0], ref[:, 1]) -
@@ -282,11 +284,7 @@ def width_sweep(ctx, data: Path, t_end: float, cached_only: bool, skipped: list,
     rows = []
     for ca, runs in WIDTH_SWEEP[ctx.tier]:
         name, ref = reference_curve(data, ca)
-        _, p95 = reference_curve(data, 0.0125) if ca == 0.0125 else (None, None)
-        p95f = data / f"pozrikidis1995_ca{ca:g}.csv"
-        if p95f.exists():
-            p95 = np.array(sorted(tuple(map(float, line.split(",")))
-                                  for line in p95f.read_text().split()))
+        p95 = read_curve(data / f"pozrikidis1995_ca{ca:g}.csv")
         curves = []
         for n, w in runs:
             if cached_only and not cached_w(ctx, n, ca, t_end, w):
