@@ -68,6 +68,18 @@ def read_curve(f: Path):
     return np.array(sorted(tuple(map(float, line.split(","))) for line in f.read_text().split()))
 
 
+def window(t, ref):
+    """The times compared with a reference: shear-rate x t in [0.2, 2], within its data."""
+    lo, hi = max(0.2, ref[0, 0]), min(2.0, ref[-1, 0], t[-1])
+    return (t >= lo) & (t <= hi)
+
+
+def max_abs_diff(t, d, ref) -> float:
+    """max |D - D_ref| over window(t, ref), D_ref interpolated linearly."""
+    m = window(t, ref)
+    return float(np.max(np.abs(d[m] - np.interp(t[m], ref[:, 0], ref[:, 1]))))
+
+
 def reference_curve(data: Path, ca: float):
     name = "pozrikidis1995" if ca == 0.0125 else "ramanujan_pozrikidis1998"
     pts = read_curve(data / f"{name}_ca{ca:g}.csv")
@@ -172,9 +184,8 @@ def run(ctx):
             if dim == 3:
                 name, ref = reference_curve(data, ca)
                 if ref is not None:
-                    lo, hi = max(0.2, ref[0, 0]), min(2.0, ref[-1, 0], t[-1])
-                    mask = (t >= lo) & (t <= hi)
-                    err = float(np.max(np.abs(d[mask] - np.interp(t[mask], ref[:, 0], ref[:, 1]))))
+                    mask = window(t, ref)
+                    err = max_abs_diff(t, d, ref)
                     metrics[f"max_abs_D_error_{tag}"] = err
                     row["max_abs_D_error"] = err
                     row["reference"] = name
@@ -235,10 +246,7 @@ def run(ctx):
                "wall_seconds": json.loads((out / "summary.json").read_text())["wall_seconds"]}
         _, ref = reference_curve(data, 0.0125)  # same small-strain moduli when C = 1
         if ref is not None:
-            lo, hi = max(0.2, ref[0, 0]), min(2.0, ref[-1, 0], t[-1])
-            mask = (t >= lo) & (t <= hi)
-            row["max_abs_D_minus_pozrikidis1995_ca0.0125"] = float(
-                np.max(np.abs(d[mask] - np.interp(t[mask], ref[:, 0], ref[:, 1]))))
+            row["max_abs_D_minus_pozrikidis1995_ca0.0125"] = max_abs_diff(t, d, ref)
         tag = f"skalak_C{c:g}_ca{ca:g}_n{4 * n}"
         metrics[f"D_end_{tag}"] = row["D_end"]
         metrics[f"D_end_over_linear_theory_{tag}"] = row["D_end_over_linear"]
@@ -293,9 +301,7 @@ def width_sweep(ctx, data: Path, t_end: float, cached_only: bool, skipped: list,
             out = run_one(ctx, 3, n, ca, t_end, width=w)
             t, d, th, vol = series(out)
             eps = w * 2.0 / n  # in units of the radius a = 1
-            lo, hi = max(0.2, ref[0, 0]), min(2.0, ref[-1, 0], t[-1])
-            mask = (t >= lo) & (t <= hi)
-            err = float(np.max(np.abs(d[mask] - np.interp(t[mask], ref[:, 0], ref[:, 1]))))
+            err = max_abs_diff(t, d, ref)
             row = {"n": n, "w": w, "eps_over_a": eps, "Ca": ca,
                    "D_t0.5": float(np.interp(0.5, t, d)), "D_t1": float(np.interp(1.0, t, d)),
                    "D_end": float(d[-1]), "max_abs_D_error": err,

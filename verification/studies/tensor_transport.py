@@ -32,8 +32,8 @@ def run(ctx):
     for flow in ("shear", "extension", "rotation"):
         errs_gs, errs_b, errs_j = [], [], []
         for n in grids:
-            time = 1.0 if flow == "rotation" else 0.5
-            out = ctx.run([exe, "--flow", flow, "--cells", n, "--dim", dim, "--time", time])
+            t_end = 1.0 if flow == "rotation" else 0.5
+            out = ctx.run([exe, "--flow", flow, "--cells", n, "--dim", dim, "--time", t_end])
             r = json.loads(out.stdout)
             rows.append(r)
             errs_gs.append(r["Gs_error_L2"])

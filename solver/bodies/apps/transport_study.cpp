@@ -15,6 +15,7 @@
 #include "bodies/transport.hpp"
 #include "boundary/boundary.hpp"
 #include "linear/structured_solver.hpp"
+#include "membrane/kinematics.hpp"
 #include "parallel/decomposition.hpp"
 
 #include <CLI/CLI.hpp>
@@ -32,26 +33,19 @@ enum class Flow { Shear, Extension, Rotation };
 
 /// exp(A t) for the three flows (nilpotent, diagonal, or the generator of z rotations).
 Matrix33 flow_map(const Matrix33& A, real t, Flow flow) {
+    if (flow == Flow::Rotation)
+        return {{{std::cos(t), -std::sin(t), 0}, {std::sin(t), std::cos(t), 0}, {0, 0, 1}}};
     Matrix33 F{};
     for (int a = 0; a < 3; ++a)
         for (int b = 0; b < 3; ++b)
             F[a][b] = flow == Flow::Shear ? (a == b ? 1.0 : 0.0) + A[a][b] * t
                                           : (a == b ? std::exp(A[a][a] * t) : 0.0);
-    if (flow == Flow::Rotation) {
-        F = {{{std::cos(t), -std::sin(t), 0}, {std::sin(t), std::cos(t), 0}, {0, 0, 1}}};
-    }
     return F;
 }
 
-/// sqrt of the second invariant of a symmetric tensor: the area ratio of a surface tensor.
+/// Area ratio J = sqrt(II) of a surface tensor (Gs has a zero eigenvalue).
 real area_ratio(const Matrix33& G) {
-    real tr = 0, tr2 = 0;
-    for (int a = 0; a < 3; ++a) {
-        tr += G[a][a];
-        for (int b = 0; b < 3; ++b)
-            tr2 += G[a][b] * G[b][a];
-    }
-    return std::sqrt(std::max(0.5 * (tr * tr - tr2), 0.0));
+    return std::sqrt(std::max(second_invariant(G), 0.0));
 }
 
 Real3 mat_vec(const Matrix33& M, const Real3& x) {
