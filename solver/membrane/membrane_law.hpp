@@ -24,6 +24,10 @@ class MembraneLaw {
     /// Strain energy per unit reference area.
     virtual real energy(real Is, real IIs) const = 0;
     virtual EnergyDerivatives energy_derivatives(real Is, real IIs) const = 0;
+    /// The largest small-strain in-plane modulus [N/m] (for both laws the area-dilation
+    /// modulus K, d^2 Ws / d(J - 1)^2 at rest): the stiffness the explicit time-step limit
+    /// must hold.
+    virtual real stiffest_modulus() const = 0;
 
     /// In-plane Cauchy tension tau_s (force per unit current length), a tangential tensor.
     Tensor33 tension(const MembraneKinematics& k) const {

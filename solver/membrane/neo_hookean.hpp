@@ -14,6 +14,7 @@ class NeoHookeanLaw final : public MembraneLaw {
     explicit NeoHookeanLaw(real Es) : Es_(Es) {}
     std::string name() const override { return "neo_hookean"; }
     real energy(real Is, real IIs) const override { return Es_ / 6 * (Is + 1 / (IIs + 1) - 1); }
+    real stiffest_modulus() const override { return Es_; } // K = Es, shear Es / 3
     EnergyDerivatives energy_derivatives(real /*Is*/, real IIs) const override {
         return {Es_ / 6, -Es_ / (6 * (IIs + 1) * (IIs + 1))};
     }

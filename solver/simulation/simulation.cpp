@@ -71,7 +71,7 @@ Simulation::Simulation(const Config& config, const RunOptions& options, MPI_Comm
             ms.smoothing_width = b.smoothing_width;
             ms.bending_modulus = b.bending_modulus;
             membrane_forces_.push_back(std::make_unique<MembraneForce>(cfg_.grid, *halos_, ms));
-            es_max = std::max(es_max, b.elastic_modulus);
+            es_max = std::max(es_max, membrane_laws_.back()->stiffest_modulus());
             eb_max = std::max(eb_max, b.bending_modulus);
         } else {
             membrane_laws_.push_back(nullptr);
@@ -254,6 +254,27 @@ void Simulation::write_outputs_if_due(bool final_step) {
         });
 }
 
+void Simulation::land_on_snapshot(TimeStepChoice& choice) const {
+    // An adaptive step shortened so that the field snapshots fall on multiples of
+    // fields_interval (comparisons at matching times need them there); when the snapshot
+    // is less than two steps away, two equal steps reach it, so no step is much shorter
+    // than the one before (the AB2 weights depend on their ratio). A fixed dt is kept.
+    const real interval = cfg_.output.fields_interval;
+    if (!fields_ || interval <= 0 || cfg_.time.fixed_dt > 0) return;
+    const real left = clock_.next_fields_time - state_->time;
+    if (!(left > 1e-12 * interval) || choice.dt <= 0) return;
+    real dt = choice.dt;
+    if (dt >= left)
+        dt = left;
+    else if (dt < left && left < 2 * dt)
+        dt = left / 2;
+    else
+        return;
+    choice.cfl *= dt / choice.dt;
+    choice.dt = dt;
+    choice.limited_by = "output time";
+}
+
 int Simulation::run() {
     FlowState& s = *state_;
     const auto t0 = std::chrono::steady_clock::now();
@@ -266,9 +287,10 @@ int Simulation::run() {
     std::string message;
     try {
         while (s.time < cfg_.time.end_time * (1 - 1e-12) && s.step < cfg_.time.max_steps) {
-            const TimeStepChoice choice =
+            TimeStepChoice choice =
                 choose_time_step(cfg_, *dec_, s, elastic_dt_limit_, elastic_dt_name_);
             check_stability(choice);
+            land_on_snapshot(choice);
             timers_.time("body_stress", [&] { apply_body_stresses(); });
             if (bodies_) *u_mid_ = s.u;
             const StepReport r = stepper_->step(s, choice.dt, timers_, force_.get());

@@ -39,6 +39,8 @@ class Simulation {
 
   private:
     void write_outputs_if_due(bool final_step);
+    /// Shorten an adaptive step to land on the next field snapshot time.
+    void land_on_snapshot(TimeStepChoice& choice) const;
     void check_stability(const TimeStepChoice& choice);
     void write_summary(double wall_seconds, const std::string& status,
                        const std::string& message) const;

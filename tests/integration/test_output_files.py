@@ -1,6 +1,7 @@
 """The output folder: meshio reads fields/fields.xdmf as a time series with cell data of
-the right shape (2D on 2 ranks, 3D), diagnostics.csv has its header and rows, and
-summary.json holds the documented keys."""
+the right shape (2D on 2 ranks, 3D), the snapshots fall on multiples of fields_interval
+(an interval that no adaptive step divides: the step is shortened to land on them),
+diagnostics.csv has its header and rows, and summary.json holds the documented keys."""
 import csv
 import json
 import os
@@ -11,7 +12,7 @@ from efsi_harness import check, parse_args, run, tg_grid
 
 args = parse_args()
 setups = {
-    "tg2d": ("taylor_green", 2, tg_grid(16) + ["time.end_time=0.4", "output.fields_interval=0.2"],
+    "tg2d": ("taylor_green", 2, tg_grid(16) + ["time.end_time=0.4", "output.fields_interval=0.13"],
              16 * 16),
     "box3d": ("lid_cavity", 1, ["grid.cells=[6, 5, 4]", "grid.length=[1.2, 1.0, 0.8]",
                                 "boundary.z_low=wall", "boundary.z_high=wall", "time.max_steps=3"],
@@ -24,6 +25,11 @@ for name, (case, ranks, sets, ncells) in setups.items():
         points, cells = reader.read_points_cells()
         check(sum(len(c.data) for c in cells) == ncells, f"{name}: mesh has {ncells} cells")
         check(reader.num_steps >= 2, f"{name}: {reader.num_steps} snapshots")
+        if name == "tg2d":
+            times = [reader.read_data(k)[0] for k in range(reader.num_steps)]
+            want = [0.0, 0.13, 0.26, 0.39, 0.4]
+            check(len(times) == len(want) and all(abs(a - b) < 1e-12 for a, b in zip(times, want)),
+                  f"{name}: snapshot times {times} are {want}")
         for k in range(reader.num_steps):
             t, point_data, cell_data = reader.read_data(k)
             p, vel = cell_data["pressure"][0], cell_data["velocity"][0]
