@@ -8,6 +8,7 @@
 #include <fmt/core.h>
 #include <nlohmann/json.hpp>
 
+#include <algorithm>
 #include <chrono>
 #include <cmath>
 #include <fstream>
@@ -16,6 +17,31 @@
 namespace efsi {
 
 namespace fs = std::filesystem;
+
+namespace {
+
+/// Keep the header and the rows up to time t (the second column) of a CSV an earlier run
+/// wrote: a restart from a checkpoint older than the run's last step redoes the steps after
+/// it, whose old rows would otherwise stay in the file next to the new ones.
+void drop_rows_after(const fs::path& file, double t) {
+    std::ifstream in(file);
+    if (!in) return;
+    std::string line, kept;
+    bool header = true;
+    while (std::getline(in, line)) {
+        const auto a = line.find(',');
+        const auto b = a == std::string::npos ? a : line.find(',', a + 1);
+        if (!header && b != std::string::npos &&
+            std::stod(line.substr(a + 1, b - a - 1)) > t + 1e-12 * std::max(1.0, std::abs(t)))
+            continue;
+        kept += line + "\n";
+        header = false;
+    }
+    in.close();
+    std::ofstream(file) << kept;
+}
+
+} // namespace
 
 Simulation::Simulation(const Config& config, const RunOptions& options, MPI_Comm world)
     : cfg_(config), opt_(options) {
@@ -101,7 +127,11 @@ Simulation::Simulation(const Config& config, const RunOptions& options, MPI_Comm
     if (dec_->rank() == 0) {
         fs::create_directories(opt_.output_dir);
         std::ofstream(opt_.output_dir / "case.toml") << cfg_.resolved_toml << "\n";
-        // Fresh files on a new run; a restart appends, but starts the files if absent.
+        // Fresh files on a new run; a restart appends (after dropping the rows past the
+        // checkpoint's time), but starts the files if absent.
+        if (!opt_.restart_file.empty())
+            for (const char* name : {"diagnostics.csv", "bodies.csv"})
+                drop_rows_after(opt_.output_dir / name, state_->time);
         if (opt_.restart_file.empty() || !fs::exists(opt_.output_dir / "diagnostics.csv")) {
             std::ofstream(opt_.output_dir / "diagnostics.csv") << Diagnostics::csv_header() << "\n";
             if (bodies_)

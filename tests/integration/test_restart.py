@@ -46,3 +46,24 @@ missing = [m for m in due if not any(m - 1e-12 <= t < m + 0.1 for t in later)]
 check(len(later) >= 2 and not missing,
       f"restart with a finer fields_interval: snapshots after t = {t_restart:.3g} at "
       f"{[round(t, 3) for t in later]} (due {[round(m, 1) for m in due]})")
+
+# A restart from a checkpoint older than the run's last step (a run killed between
+# checkpoints) redoes the steps after it: diagnostics.csv must end up with each step once,
+# the same rows as the uninterrupted run, not the old rows of the redone steps as well.
+rows = tg_grid(32) + ["time.end_time=0.5", "output.diagnostics_every=1"]
+full = os.path.join(args.output, "rows_full")
+run(args, "taylor_green", full, sets=rows)
+part = os.path.join(args.output, "rows_part")
+run(args, "taylor_green", part, sets=rows + ["time.max_steps=4"])
+old = os.path.join(args.output, "checkpoint_step4.h5")
+os.replace(os.path.join(part, "checkpoint.h5"), old)
+run(args, "taylor_green", part, sets=rows + ["time.max_steps=7"], extra=["--restart", old])
+run(args, "taylor_green", part, sets=rows, extra=["--restart", old])
+with open(os.path.join(full, "diagnostics.csv")) as f:
+    want = f.read().splitlines()
+with open(os.path.join(part, "diagnostics.csv")) as f:
+    got = f.read().splitlines()
+steps = [line.split(",")[0] for line in got[1:]]
+check(len(steps) == len(set(steps)), f"restart from an older checkpoint: each step once "
+      f"({len(steps)} rows, {len(set(steps))} steps)")
+check(got == want, f"restart from an older checkpoint: the uninterrupted run's {len(want) - 1} rows")
