@@ -296,7 +296,7 @@ void Simulation::land_on_snapshot(TimeStepChoice& choice) const {
     real dt = choice.dt;
     if (dt >= left)
         dt = left;
-    else if (dt < left && left < 2 * dt)
+    else if (left < 2 * dt)
         dt = left / 2;
     else
         return;
