@@ -9,8 +9,6 @@
 
 #include "membrane/membrane_law.hpp"
 
-#include <algorithm>
-
 namespace efsi {
 
 class SkalakLaw final : public MembraneLaw {
@@ -23,8 +21,8 @@ class SkalakLaw final : public MembraneLaw {
     EnergyDerivatives energy_derivatives(real Is, real IIs) const override {
         return {Es_ / 3 * (Is + 1), Es_ / 3 * (alpha_ * IIs - 1)};
     }
-    /// K = Gs (1 + 2 alpha) with Gs = 2 Es / 3 (14 Es for alpha = 10).
-    real stiffest_modulus() const override { return 2 * Es_ / 3 * (1 + 2 * std::max(alpha_, 0.0)); }
+    /// K = Gs (1 + 2 alpha) with Gs = 2 Es / 3 (14 Es for alpha = 10; alpha > 0 by the reader).
+    real stiffest_modulus() const override { return 2 * Es_ / 3 * (1 + 2 * alpha_); }
 
   private:
     real Es_;
