@@ -76,6 +76,10 @@ BodySystem::BodySystem(const Config& config, const Decomposition& dec, const Hal
         extension_.push_back(extend ? std::make_unique<TensorExtension>(
                                           halos, b.extension_threshold, layers, membrane)
                                     : nullptr);
+        surface_velocity_.push_back(
+            membrane && !b.pinned && b.strain_velocity == "surface"
+                ? std::make_unique<SurfaceVelocity>(halos, b.smoothing_width, b.name)
+                : nullptr);
         clipped_.push_back(0);
     }
 }
@@ -249,8 +253,13 @@ void BodySystem::advance(const VelocityField& u, real dt, long step, StageTimers
         if (cfg_.bodies[i].pinned) continue; // held at its initial phi (and B = I)
         Body& body = *bodies_[i];
         // The tensors first, with the velocity gradient of this step; then phi.
-        if (!body.tensor().comp.empty())
-            timers.time("bodies_tensor", [&] { transport_[i]->advance(body, u, dt); });
+        if (!body.tensor().comp.empty()) {
+            const VelocityField* carrier = &u;
+            if (surface_velocity_[i])
+                timers.time("bodies_surface_velocity",
+                            [&] { carrier = &surface_velocity_[i]->compute(body, u); });
+            timers.time("bodies_tensor", [&] { transport_[i]->advance(body, *carrier, dt); });
+        }
         timers.time("bodies_vof", [&] {
             local[i] = vof_[i]->advance_local(body.phi(), u, dt, step, &body.patch());
         });

@@ -8,6 +8,7 @@
 #include "boundary/boundary.hpp"
 #include "config/config.hpp"
 #include "interface/vof_advection.hpp"
+#include "membrane/surface_velocity.hpp"
 #include "solid/tensor_extension.hpp"
 #include "time/stage_timers.hpp"
 
@@ -69,6 +70,8 @@ class BodySystem {
     std::vector<std::unique_ptr<VofAdvection>> vof_;
     std::vector<std::unique_ptr<BodyTransport>> transport_;
     std::vector<std::unique_ptr<TensorExtension>> extension_; ///< null: B not extended
+    /// Carries a membrane's Gs with its surface's velocity (null: with the local velocity).
+    std::vector<std::unique_ptr<SurfaceVelocity>> surface_velocity_;
     std::vector<real> clipped_;
 };
 

@@ -95,6 +95,11 @@ std::vector<BodyConfig> read_bodies(TableReader& top, const GlobalGrid& grid,
                      "membrane: bending modulus Eb of the moment m = Eb (kappa - kappa_R P) "
                      "(0: no bending); kappa_R starts as the initial shape's curvature (mean "
                      "curvature in 3D, the section's in 2D)");
+        b.strain_velocity =
+            r.string("strain_velocity", "surface", {"surface", "local"},
+                     "membrane: velocity that carries Gs: surface (the velocity on phi = 1/2, "
+                     "extended along the normals, so every layer of the band keeps the "
+                     "membrane's strain) or local (each layer its own velocity)");
         b.bending = b.bending_modulus > 0;
         r.finish();
         if (KeyCatalogue::instance().documenting) continue;

@@ -45,6 +45,9 @@ struct BodyConfig {
     real elastic_modulus = 0;        ///< Es [N/m]
     real area_dilation = 1;          ///< Skalak's C (alpha)
     real bending_modulus = 0;        ///< Eb [N m] of m = Eb (kappa - kappa_R P); 0: no bending
+    /// Velocity that carries Gs: "surface" (the surface's, extended along the normals:
+    /// every layer of the band shares the membrane's strain) or "local" (each layer its own).
+    std::string strain_velocity = "surface";
 };
 
 struct VofConfig {

@@ -1,0 +1,179 @@
+#include "membrane/surface_velocity.hpp"
+
+#include "core/error.hpp"
+#include "operators/flow_operators.hpp"
+
+#include <fmt/format.h>
+
+#include <algorithm>
+#include <array>
+#include <cmath>
+
+namespace efsi {
+
+namespace {
+
+/// Catmull-Rom weights of the points -1, 0, 1, 2 at t in [0, 1).
+inline std::array<real, 4> catmull_rom(real t) {
+    const real t2 = t * t, t3 = t2 * t;
+    return {0.5 * (-t3 + 2 * t2 - t), 0.5 * (3 * t3 - 5 * t2 + 2), 0.5 * (-3 * t3 + 4 * t2 + t),
+            0.5 * (t3 - t2)};
+}
+
+/// Their derivatives with respect to t.
+inline std::array<real, 4> catmull_rom_slope(real t) {
+    const real t2 = t * t;
+    return {0.5 * (-3 * t2 + 4 * t - 1), 0.5 * (9 * t2 - 10 * t), 0.5 * (-9 * t2 + 8 * t + 1),
+            0.5 * (3 * t2 - 2 * t)};
+}
+
+struct ValueAndGradient {
+    real value = 0;
+    Real3 gradient{0, 0, 0};
+};
+
+} // namespace
+
+SurfaceVelocity::SurfaceVelocity(const HaloFiller& halos, real eps_cells,
+                                 const std::string& body_name)
+    : halos_(halos), eps_cells_(eps_cells) {
+    // The interpolated copy of u needs reach + 3 halo layers (foot displacement, cubic
+    // stencil, face offset), and a neighbour can only send the layers it owns.
+    const Decomposition& dec = halos.decomposition();
+    wide_halo_ = int(std::ceil(reach_)) + 3;
+    for (int d = 0; d < dec.dim(); ++d) {
+        const int thinnest = int(std::lround(dec.min(real(dec.block().cells[d]))));
+        if (thinnest < wide_halo_)
+            throw InputError(fmt::format(
+                "body '{}': strain_velocity = \"surface\" needs every rank's block to be at "
+                "least {} cells wide, but one is {} cells wide along {} ({} ranks along it); "
+                "run on fewer ranks or set body.strain_velocity = \"local\"",
+                body_name, wide_halo_, thinnest, "xyz"[d], dec.ranks_per_dim()[d]));
+    }
+}
+
+const VelocityField& SurfaceVelocity::compute(const Body& body, const VelocityField& u) {
+    const Decomposition& dec = halos_.decomposition();
+    const GlobalGrid& g = dec.grid();
+    const LocalBlock& block = dec.block();
+    const int dim = g.dim;
+    if (wide_.dim != dim || wide_[0].data().empty()) {
+        wide_ = VelocityField("u_wide", block, dim, wide_halo_);
+        out_ = u;
+    }
+    out_ = u; // faces away from the band keep u (halos included)
+    // Both halo fills are collective: every rank takes part, with or without the body.
+    for (int c = 0; c < dim; ++c)
+        for_each_in(u[c].owned(), [&](int i, int j, int k) { wide_[c](i, j, k) = u[c](i, j, k); });
+    halos_.fill(wide_);
+    if (body.patch().empty() || reach_ <= 0) {
+        halos_.fill(out_);
+        return out_;
+    }
+
+    // psi = eps atanh(1 - 2 phi) on the patch, halos from the neighbours (phi's own halos
+    // may be stale, e.g. right after a restart).
+    const Field& phi = body.phi();
+    const real h = g.dx(0);
+    const real eps = eps_cells_ * h;
+    if (psi_.data().empty() || psi_.begin() != phi.begin() || psi_.cells() != phi.cells())
+        psi_ = Field::on_patch("psi", Location::Cell, phi.begin(), phi.cells(), dim);
+    for_each_in(phi.owned(), [&](int i, int j, int k) {
+        const real v = std::clamp(1 - 2 * phi(i, j, k), -1 + 1e-15, 1 - 1e-15);
+        psi_(i, j, k) = eps * std::atanh(v);
+    });
+    halos_.fill(psi_, body.patch());
+    // Gradient of psi at a cell (central differences; one cell inside the stored box).
+    auto grad_psi = [&](const Int3& p) {
+        Real3 gp{0, 0, 0};
+        for (int d = 0; d < dim; ++d)
+            gp[d] = (psi_(shifted(p, d, 1)) - psi_(shifted(p, d, -1))) / (2 * g.dx(d));
+        return gp;
+    };
+    // Component c and its gradient at a point x, from the staggered grid of c in `wide_`.
+    auto interpolate = [&](int c, const Real3& x) {
+        Int3 base{0, 0, 0};
+        std::array<std::array<real, 4>, 3> w{}, dw{};
+        for (int d = 0; d < 3; ++d) {
+            if (d >= dim) {
+                w[d] = {0, 1, 0, 0};
+                continue;
+            }
+            const real shift = d == c ? 0.0 : 0.5;
+            const real t = (x[d] - g.origin[d]) / g.dx(d) - block.offset[d] - shift;
+            base[d] = int(std::floor(t));
+            w[d] = catmull_rom(t - base[d]);
+            dw[d] = catmull_rom_slope(t - base[d]);
+            for (real& v : dw[d])
+                v /= g.dx(d);
+        }
+        ValueAndGradient r;
+        const int kz = dim == 3 ? 4 : 1;
+        for (int kk = 0; kk < kz; ++kk)
+            for (int jj = 0; jj < 4; ++jj)
+                for (int ii = 0; ii < 4; ++ii) {
+                    const real v = wide_[c](base[0] - 1 + ii, base[1] - 1 + jj,
+                                            dim == 3 ? base[2] - 1 + kk : 0);
+                    const real wz = dim == 3 ? w[2][kk] : 1.0;
+                    r.value += w[0][ii] * w[1][jj] * wz * v;
+                    r.gradient[0] += dw[0][ii] * w[1][jj] * wz * v;
+                    r.gradient[1] += w[0][ii] * dw[1][jj] * wz * v;
+                    if (dim == 3) r.gradient[2] += w[0][ii] * w[1][jj] * dw[2][kk] * v;
+                }
+        return r;
+    };
+    // Owned faces of the patch's cells (both faces of each: the high one is the next
+    // cell's low face). The band lies m >= 2 cells inside the patch, so the faces the
+    // transport's stencil reaches past them are far from the surface and keep u.
+    Box faces = body.patch().local;
+    for (int d = 0; d < dim; ++d)
+        faces.hi[d] = std::min(faces.hi[d] + 1, block.cells[d]);
+    for (int c = 0; c < dim; ++c)
+        for_each_in(faces, [&](int i, int j, int k) {
+            const Int3 hi_cell{i, j, k}, lo_cell = shifted(hi_cell, c, -1);
+            // The face's psi and grad psi from its two cells.
+            const real s = 0.5 * (psi_(lo_cell) + psi_(hi_cell));
+            // Full weight to reach - 1 cells, then a linear ramp to u: a switch would turn
+            // round-off differences (another decomposition) into O(1) ones.
+            const real weight = std::clamp(reach_ - std::abs(s) / h, 0.0, 1.0);
+            if (weight == 0) return;
+            const Real3 ga = grad_psi(lo_cell), gb = grad_psi(hi_cell);
+            Real3 gf{0, 0, 0};
+            real g2 = 0;
+            for (int d = 0; d < dim; ++d) {
+                gf[d] = 0.5 * (ga[d] + gb[d]);
+                g2 += gf[d] * gf[d];
+            }
+            // |grad psi| = 1 in a resolved band; where psi is not a distance (the centre of a
+            // body under 5 cells in radius, sheared-off tails) the foot point means nothing:
+            // u_e's weight falls linearly from |grad psi|^2 = 1/2 to 1/4.
+            const real weight_g = std::clamp(4 * g2 - 1, 0.0, 1.0);
+            if (weight_g == 0) return;
+            // Foot point y = x - s n: |x - y| = |s| < reach, so the interpolation stencil
+            // stays inside the wide halo.
+            Real3 n{0, 0, 0};
+            for (int d = 0; d < dim; ++d)
+                n[d] = gf[d] / std::sqrt(g2);
+            Real3 y = position(g, block, face_location(c), i, j, k);
+            for (int d = 0; d < dim; ++d)
+                y[d] -= s * n[d];
+            // u(y) + s dn/dt, dn/dt = -P (grad u)^T n: only tangential derivatives of u at
+            // the surface enter (those do not see the kink across the membrane).
+            const ValueAndGradient uc = interpolate(c, y);
+            Real3 gtn{0, 0, 0}; // (grad u)^T n at y
+            for (int a = 0; a < dim; ++a) {
+                const ValueAndGradient ua = a == c ? uc : interpolate(a, y);
+                for (int d = 0; d < dim; ++d)
+                    gtn[d] += n[a] * ua.gradient[d];
+            }
+            real ngtn = 0;
+            for (int d = 0; d < dim; ++d)
+                ngtn += n[d] * gtn[d];
+            const real ue = uc.value - s * (gtn[c] - n[c] * ngtn);
+            out_[c](i, j, k) += weight * weight_g * (ue - out_[c](i, j, k));
+        });
+    halos_.fill(out_);
+    return out_;
+}
+
+} // namespace efsi

@@ -1,0 +1,66 @@
+// The membrane's velocity carried off its surface along the normals, for the transport of Gs.
+//
+// Every level set of a smoothed band is a material surface, and the transport of Gs with
+// the local velocity makes each one carry its own strain. The tangential velocity has a
+// kink across the membrane (the jump of the shear stress the membrane supports), so the
+// layers at s = +-eps tank-tread at different rates and their strains drift apart by
+// ~eps x shear rate x t, whatever the capillary number; relative to the membrane's strain
+// (~Ca) that is an error growing like 1/Ca (docs/verification.md, "Where the rest comes
+// from"). Transporting Gs with the velocity of the surface instead,
+//
+//   u_e(x) = u(y) + s dn/dt = u(y) - s P (grad u(y))^T n,   y = x - s n,
+//   s = psi(x) = eps atanh(1 - 2 phi),   n = grad psi / |grad psi|,
+//
+// (y the foot point of x on phi = 1/2; u_e is the velocity of the point at fixed distance s
+// along the moving normal, the parallel surfaces of a Kirchhoff-Love shell) gives every
+// layer the surface's stretching. At the surface u_e = u, and because a tangential Gs only
+// sees the tangential derivatives of the velocity, the membrane's own kinematics are
+// unchanged; only tangential derivatives of u at the surface enter, and those do not see
+// the kink; a rigid motion is reproduced exactly. Off the surface a layer's strain differs
+// from the surface's by s x (change of curvature): bounded, ~(eps/R) x the deformation,
+// and of opposite sign on the two sides. (u(y) alone, without s dn/dt, makes the layers
+// rotate at different angular velocities, omega R/(R + s), and was worse than u itself.)
+//
+// Numerics: each velocity component is interpolated at the foot point from its own
+// staggered grid by tensor-product Catmull-Rom cubics (C1, exact for quadratics), so the
+// velocity gradient of u_e that stretches Gs is continuous. u_e replaces u on the faces
+// within 4 cells of the surface (enough for the extension core, |psi| <= 2.3 eps at eps <=
+// 1 cell, and the transport's two-cell stencil), blends linearly into u between 4 and 5
+// cells (no switch: round-off must not decide which velocity a face gets), and u is kept
+// beyond; the tensor extension overwrites the cells there. The foot-point stencil reaches
+// 5 + 3 cells, so the interpolated copy of u carries 8 halo layers.
+#pragma once
+
+#include "bodies/body.hpp"
+#include "boundary/boundary.hpp"
+#include "grid/field.hpp"
+
+#include <string>
+
+namespace efsi {
+
+class SurfaceVelocity {
+  public:
+    /// `eps_cells`: the body's smoothing width in cells. Throws InputError (naming the body)
+    /// when a rank's block is too thin for the interpolation's halo.
+    SurfaceVelocity(const HaloFiller& halos, real eps_cells, const std::string& body_name = "");
+
+    /// u_e for `body` from the face velocity u (halos filled): u carried off the surface
+    /// along the normals near the band, u elsewhere. Halos of the result are filled.
+    const VelocityField& compute(const Body& body, const VelocityField& u);
+
+    /// Faces within reach - 1 cells of the surface get u_e, those beyond reach keep u, and
+    /// between the two the weight of u_e falls linearly.
+    real reach() const { return reach_; }
+
+  private:
+    const HaloFiller& halos_;
+    real eps_cells_;
+    real reach_ = 5.0;
+    int wide_halo_ = 8;  ///< ceil(reach) + 3
+    VelocityField wide_; ///< u with wide halos, the interpolation source
+    VelocityField out_;  ///< u_e
+    Field psi_;          ///< signed distance on the body's patch
+};
+
+} // namespace efsi

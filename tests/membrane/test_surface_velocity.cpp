@@ -1,0 +1,179 @@
+// Surface velocity (solver/membrane/surface_velocity): the velocity that carries a
+// membrane's Gs is u at the foot point on the surface plus s dn/dt (the layers of the band
+// follow the surface as the parallel surfaces of a Kirchhoff-Love shell). It must
+//  - be exact for a linear flow (against the closed form on a sphere),
+//  - remove a velocity kink across the membrane: a rotation whose rate varies only with
+//    the distance to the surface (the shear a membrane supports) becomes one rigid
+//    rotation, so every layer of the band shares the surface's (zero) strain,
+//  - agree on 1 and 2 ranks (foot points across the rank boundary).
+#include "bodies/body.hpp"
+#include "boundary/boundary.hpp"
+#include "membrane/surface_velocity.hpp"
+#include "parallel/decomposition.hpp"
+#include "test_support.hpp"
+
+#include <cmath>
+#include <functional>
+
+using namespace efsi;
+
+namespace {
+
+struct GridSetup {
+    GlobalGrid g;
+    std::unique_ptr<Decomposition> dec;
+    std::unique_ptr<HaloFiller> halos;
+    BoxBoundaries bc{};
+};
+
+GridSetup make_setup(int dim, Int3 n, real h) {
+    GridSetup s;
+    s.g.dim = dim;
+    if (dim == 2) n[2] = 1;
+    s.g.cells = n;
+    for (int d = 0; d < 3; ++d) {
+        s.g.length[d] = n[d] * h;
+        s.g.origin[d] = -0.5 * n[d] * h;
+    }
+    for (int d = 0; d < dim; ++d)
+        s.bc[d][0].type = s.bc[d][1].type = BoundaryType::Periodic;
+    s.dec = std::make_unique<Decomposition>(MPI_COMM_WORLD, s.g, periodic_directions(s.bc));
+    s.halos = std::make_unique<HaloFiller>(*s.dec, s.bc);
+    return s;
+}
+
+const Real3 kCentre{0.011, -0.017, 0.013};
+constexpr real kRadius = 0.4;
+
+Real3 offset_from_centre(const Real3& x, int dim) {
+    return {x[0] - kCentre[0], x[1] - kCentre[1], dim == 3 ? x[2] - kCentre[2] : 0.0};
+}
+
+real norm(const Real3& r) {
+    return std::sqrt(r[0] * r[0] + r[1] * r[1] + r[2] * r[2]);
+}
+
+/// A smoothed sphere (circle in 2D) of radius kRadius, eps = eps_cells h.
+void build_sphere(const GridSetup& s, Body& body, real eps_cells) {
+    body.allocate(make_patch(Box{{0, 0, 0}, s.g.cells}, *s.dec));
+    const real eps = eps_cells * s.g.dx(0);
+    for_each_in(body.patch().local, [&](int i, int j, int k) {
+        const Real3 x = position(s.g, s.dec->block(), Location::Cell, i, j, k);
+        const real v =
+            0.5 * (1 - std::tanh((norm(offset_from_centre(x, s.g.dim)) - kRadius) / eps));
+        body.phi()(i, j, k) = v < 1e-8 ? 0.0 : v;
+    });
+    s.halos->fill(body.phi(), body.patch());
+}
+
+using VectorFunction = std::function<Real3(const Real3&)>;
+
+VelocityField sample(const GridSetup& s, const VectorFunction& f) {
+    VelocityField u("u", s.dec->block(), s.g.dim);
+    for (int c = 0; c < s.g.dim; ++c)
+        for_each_in(u[c].owned(), [&](int i, int j, int k) {
+            u[c](i, j, k) = f(position(s.g, s.dec->block(), face_location(c), i, j, k))[c];
+        });
+    s.halos->fill(u);
+    return u;
+}
+
+/// Largest |v_c - f_c| over the owned faces with |r - R| <= within (all ranks).
+real max_difference(const GridSetup& s, const VelocityField& v, const VectorFunction& f,
+                    real within) {
+    real worst = 0;
+    for (int c = 0; c < s.g.dim; ++c)
+        for_each_in(v[c].owned(), [&](int i, int j, int k) {
+            const Real3 x = position(s.g, s.dec->block(), face_location(c), i, j, k);
+            if (std::abs(norm(offset_from_centre(x, s.g.dim)) - kRadius) > within) return;
+            worst = std::max(worst, std::abs(v[c](i, j, k) - f(x)[c]));
+        });
+    return efsi::test::global_max(worst);
+}
+
+} // namespace
+
+// u = (gamma y, 0, 0): u_e = u(y_f) + s dn/dt with y_f = c + R n, s = r - R and
+// dn/dt = -P (grad u)^T n = -gamma n_x (e_y - n_y n). Catmull-Rom reproduces linear fields,
+// so only the foot point (face psi and normal from cell values by averaging and central
+// differences) is approximate: the error is second order in h.
+TEST(SurfaceVelocity, LinearShearMatchesTheClosedFormToSecondOrder) {
+    for (int dim : {2, 3}) {
+        const real gamma = 1.3;
+        const VectorFunction shear = [&](const Real3& x) { return Real3{gamma * x[1], 0, 0}; };
+        const VectorFunction exact = [&](const Real3& x) {
+            const Real3 r = offset_from_centre(x, dim);
+            const real rr = norm(r);
+            const Real3 n{r[0] / rr, r[1] / rr, r[2] / rr};
+            const real sd = rr - kRadius;
+            const real yf = kCentre[1] + kRadius * n[1];
+            return Real3{gamma * yf + sd * gamma * n[0] * n[1] * n[0],
+                         -sd * gamma * n[0] * (1 - n[1] * n[1]), sd * gamma * n[0] * n[1] * n[2]};
+        };
+        real err[2] = {0, 0};
+        for (int level = 0; level < 2; ++level) {
+            const int m = 1 << level;
+            const real h = 0.05 / m; // R = 8 and 16 cells
+            GridSetup s = make_setup(dim, {32 * m, 34 * m, 30 * m}, h);
+            Body body("capsule", BodyKind::Membrane, false, dim);
+            build_sphere(s, body, 1.0);
+            const VelocityField u = sample(s, shear);
+            SurfaceVelocity sv(*s.halos, 1.0);
+            const VelocityField& ue = sv.compute(body, u);
+            // The same physical band at both levels: |s| <= 3.5 h_fine (inside the reach,
+            // 4.5 cells, less one cell: a face's psi is its two cells' average).
+            const real within = 3.5 * 0.025;
+            err[level] = max_difference(s, ue, exact, within);
+            if (level == 0) {
+                // Without the surface velocity the layers move with u (the test can fail).
+                EXPECT_GT(max_difference(s, u, exact, within), 10 * err[0]) << "dim " << dim;
+                EXPECT_LT(err[0], 0.1 * gamma * h) << "dim " << dim;
+            }
+            // Beyond the reach the faces keep u.
+            const real reach = sv.reach() * h;
+            real kept = 0;
+            for (int c = 0; c < dim; ++c)
+                for_each_in(u[c].owned(), [&](int i, int j, int k) {
+                    const Real3 x = position(s.g, s.dec->block(), face_location(c), i, j, k);
+                    if (std::abs(norm(offset_from_centre(x, dim)) - kRadius) > reach + h)
+                        kept = std::max(kept, std::abs(ue[c](i, j, k) - u[c](i, j, k)));
+                });
+            EXPECT_EQ(efsi::test::global_max(kept), 0.0) << "dim " << dim;
+        }
+        const real order = std::log2(err[0] / err[1]);
+        EXPECT_GT(order, 1.8) << "dim " << dim << ": errors " << err[0] << ", " << err[1];
+    }
+}
+
+// u = (1 + a eps ln cosh(s / eps)) omega x r: a rotation whose rate varies across the
+// membrane with a smoothed kink (slope +-a on either side). Every layer of the band would
+// tank-tread at its own rate; the surface velocity is the one rigid rotation omega x r.
+TEST(SurfaceVelocity, KinkAcrossTheMembraneIsRemoved) {
+    for (int dim : {2, 3}) {
+        const real h = 0.05;
+        GridSetup s = make_setup(dim, {32, 34, 30}, h); // R = 8 cells
+        const real eps = h, a = 3.0;
+        Body body("capsule", BodyKind::Membrane, false, dim);
+        build_sphere(s, body, 1.0);
+        const Real3 omega = dim == 3 ? Real3{0.3, -0.5, 0.8} : Real3{0, 0, 0.8};
+        auto rotation = [&](const Real3& x, real rate) {
+            const Real3 r = offset_from_centre(x, dim);
+            return Real3{rate * (omega[1] * r[2] - omega[2] * r[1]),
+                         rate * (omega[2] * r[0] - omega[0] * r[2]),
+                         dim == 3 ? rate * (omega[0] * r[1] - omega[1] * r[0]) : 0.0};
+        };
+        const VectorFunction kinked = [&](const Real3& x) {
+            const real sd = norm(offset_from_centre(x, dim)) - kRadius;
+            return rotation(x, 1 + a * eps * std::log(std::cosh(sd / eps)));
+        };
+        const VectorFunction rigid = [&](const Real3& x) { return rotation(x, 1.0); };
+        const VelocityField u = sample(s, kinked);
+        SurfaceVelocity sv(*s.halos, 1.0);
+        const VelocityField& ue = sv.compute(body, u);
+        const real core = 2.3 * eps; // the band's core (phi in [0.01, 0.99])
+        const real before = max_difference(s, u, rigid, core);
+        const real after = max_difference(s, ue, rigid, core);
+        EXPECT_GT(before, 0.1 * norm(omega) * kRadius * h / kRadius) << "dim " << dim;
+        EXPECT_LT(after, 0.1 * before) << "dim " << dim;
+    }
+}
