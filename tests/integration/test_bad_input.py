@@ -1,5 +1,6 @@
 """Bad input stops before anything is allocated, with exit code 2 and the key named:
-`efsi check` of a case with an unknown key, and a 64 x 64 case on 3 ranks."""
+`efsi check` of a case with an unknown key, a 64 x 64 case on 3 ranks, and a membrane case
+whose blocks are too thin for the surface velocity of its Gs."""
 import os
 
 from efsi_harness import check, parse_args, run
@@ -22,3 +23,13 @@ proc = run(args, "lid_cavity", out, ranks=3, expect=None)
 check(proc.returncode != 0, f"3 ranks on 64x64 exits {proc.returncode}")
 check("cannot be divided" in proc.stderr, f"message: {proc.stderr.strip()[:200]}")
 check(not os.path.exists(out), "nothing was written (checked before allocating)")
+
+# A membrane whose Gs is carried by the surface velocity reads u up to 8 cells away, so
+# every rank's block must be at least 8 cells wide: 16 cells over 4 ranks along y is not.
+out = os.path.join(args.output, "thin_blocks")
+proc = run(args, "body_translation", out, ranks=4, expect=None,
+           sets=["grid.cells=[32,16,1]", "grid.length=[2.0,1.0,0.0625]", "parallel.ranks=[1,4,1]"])
+check(proc.returncode == 2, f"thin blocks exit {proc.returncode}")
+check("strain_velocity" in proc.stderr and "8 cells wide" in proc.stderr,
+      f"message: {proc.stderr.strip()[:200]}")
+check(not os.path.exists(out), "nothing was written (checked before the run)")
