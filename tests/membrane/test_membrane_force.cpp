@@ -4,6 +4,7 @@
 #include "bodies/body.hpp"
 #include "boundary/boundary.hpp"
 #include "membrane/membrane_force.hpp"
+#include "membrane_test_grid.hpp"
 #include "parallel/decomposition.hpp"
 #include "test_support.hpp"
 
@@ -14,28 +15,10 @@ using namespace efsi;
 
 namespace {
 
-struct GridSetup {
-    GlobalGrid g;
-    std::unique_ptr<Decomposition> dec;
-    std::unique_ptr<HaloFiller> halos;
-    BoxBoundaries bc{};
-};
+using efsi::test::GridSetup;
 
-/// Box around the origin with cell size h and n cells per direction (nz = 1 in 2D).
 GridSetup make_setup(int dim, Int3 n, real h) {
-    GridSetup s;
-    s.g.dim = dim;
-    if (dim == 2) n[2] = 1;
-    s.g.cells = n;
-    for (int d = 0; d < 3; ++d) {
-        s.g.length[d] = n[d] * h;
-        s.g.origin[d] = -0.5 * n[d] * h;
-    }
-    for (int d = 0; d < dim; ++d)
-        s.bc[d][0].type = s.bc[d][1].type = BoundaryType::Wall;
-    s.dec = std::make_unique<Decomposition>(MPI_COMM_WORLD, s.g, periodic_directions(s.bc));
-    s.halos = std::make_unique<HaloFiller>(*s.dec, s.bc);
-    return s;
+    return efsi::test::make_setup(dim, n, h, BoundaryType::Wall);
 }
 
 /// A smoothed sphere/circle of radius s R0 (eps = 1 cell; the band, ~8 cells either
