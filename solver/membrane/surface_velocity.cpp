@@ -57,16 +57,14 @@ const VelocityField& SurfaceVelocity::compute(const Body& body, const VelocityFi
     const GlobalGrid& g = dec.grid();
     const LocalBlock& block = dec.block();
     const int dim = g.dim;
-    if (wide_.dim != dim || wide_[0].data().empty()) {
+    if (wide_.dim != dim || wide_[0].data().empty())
         wide_ = VelocityField("u_wide", block, dim, wide_halo_);
-        out_ = u;
-    }
     out_ = u; // faces away from the band keep u (halos included)
     // Both halo fills are collective: every rank takes part, with or without the body.
     for (int c = 0; c < dim; ++c)
         for_each_in(u[c].owned(), [&](int i, int j, int k) { wide_[c](i, j, k) = u[c](i, j, k); });
     halos_.fill(wide_);
-    if (body.patch().empty() || reach_ <= 0) {
+    if (body.patch().empty()) {
         halos_.fill(out_);
         return out_;
     }
