@@ -76,10 +76,10 @@ BodySystem::BodySystem(const Config& config, const Decomposition& dec, const Hal
         extension_.push_back(extend ? std::make_unique<TensorExtension>(
                                           halos, b.extension_threshold, layers, membrane)
                                     : nullptr);
-        surface_velocity_.push_back(
-            membrane && !b.pinned && b.strain_velocity == "surface"
-                ? std::make_unique<SurfaceVelocity>(halos, b.smoothing_width, b.name)
-                : nullptr);
+        const bool surface = membrane && !b.pinned && b.strain_velocity == "surface";
+        carried_by_surface_.push_back(surface);
+        if (surface && !surface_velocity_)
+            surface_velocity_ = std::make_unique<SurfaceVelocity>(halos, b.name);
         clipped_.push_back(0);
     }
 }
@@ -249,15 +249,19 @@ void BodySystem::advance(const VelocityField& u, real dt, long step, StageTimers
     // patch, among the ranks it spans): a rank that holds one body does not wait while
     // another rank advances a different one. The VOF statistics are reduced afterwards.
     std::vector<VofStepStats> local(bodies_.size());
+    // One copy of u with wide halos per step serves every membrane's surface velocity.
+    if (surface_velocity_)
+        timers.time("bodies_surface_velocity", [&] { surface_velocity_->load(u); });
     for (std::size_t i = 0; i < bodies_.size(); ++i) {
         if (cfg_.bodies[i].pinned) continue; // held at its initial phi (and B = I)
         Body& body = *bodies_[i];
         // The tensors first, with the velocity gradient of this step; then phi.
         if (!body.tensor().comp.empty()) {
             const VelocityField* carrier = &u;
-            if (surface_velocity_[i])
-                timers.time("bodies_surface_velocity",
-                            [&] { carrier = &surface_velocity_[i]->compute(body, u); });
+            if (carried_by_surface_[i])
+                timers.time("bodies_surface_velocity", [&] {
+                    carrier = &surface_velocity_->compute(body, cfg_.bodies[i].smoothing_width);
+                });
             timers.time("bodies_tensor", [&] { transport_[i]->advance(body, *carrier, dt); });
         }
         timers.time("bodies_vof", [&] {

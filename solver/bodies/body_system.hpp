@@ -70,8 +70,10 @@ class BodySystem {
     std::vector<std::unique_ptr<VofAdvection>> vof_;
     std::vector<std::unique_ptr<BodyTransport>> transport_;
     std::vector<std::unique_ptr<TensorExtension>> extension_; ///< null: B not extended
-    /// Carries a membrane's Gs with its surface's velocity (null: with the local velocity).
-    std::vector<std::unique_ptr<SurfaceVelocity>> surface_velocity_;
+    /// Carries the membranes' Gs with their surfaces' velocities; one for all bodies (null:
+    /// no body uses it). carried_by_surface_[i]: body i's Gs is carried by it (else by u).
+    std::unique_ptr<SurfaceVelocity> surface_velocity_;
+    std::vector<bool> carried_by_surface_;
     std::vector<real> clipped_;
 };
 

@@ -8,6 +8,7 @@
 #include <algorithm>
 #include <array>
 #include <cmath>
+#include <stdexcept>
 
 namespace efsi {
 
@@ -34,9 +35,8 @@ struct ValueAndGradient {
 
 } // namespace
 
-SurfaceVelocity::SurfaceVelocity(const HaloFiller& halos, real eps_cells,
-                                 const std::string& body_name)
-    : halos_(halos), eps_cells_(eps_cells) {
+SurfaceVelocity::SurfaceVelocity(const HaloFiller& halos, const std::string& body_name)
+    : halos_(halos) {
     // The interpolated copy of u needs reach + 3 halo layers (foot displacement, cubic
     // stencil, face offset), and a neighbour can only send the layers it owns.
     const Decomposition& dec = halos.decomposition();
@@ -52,20 +52,32 @@ SurfaceVelocity::SurfaceVelocity(const HaloFiller& halos, real eps_cells,
     }
 }
 
-const VelocityField& SurfaceVelocity::compute(const Body& body, const VelocityField& u) {
+void SurfaceVelocity::load(const VelocityField& u) {
+    const Decomposition& dec = halos_.decomposition();
+    const int dim = dec.dim();
+    if (wide_.dim != dim || wide_[0].data().empty())
+        wide_ = VelocityField("u_wide", dec.block(), dim, wide_halo_);
+    for (int c = 0; c < dim; ++c)
+        for_each_in(u[c].owned(), [&](int i, int j, int k) { wide_[c](i, j, k) = u[c](i, j, k); });
+    halos_.fill(wide_); // collective
+    out_ = u;           // faces away from every band keep u (halos included)
+    changed_ = Box{};
+}
+
+const VelocityField& SurfaceVelocity::compute(const Body& body, real eps_cells) {
     const Decomposition& dec = halos_.decomposition();
     const GlobalGrid& g = dec.grid();
     const LocalBlock& block = dec.block();
     const int dim = g.dim;
     if (wide_.dim != dim || wide_[0].data().empty())
-        wide_ = VelocityField("u_wide", block, dim, wide_halo_);
-    out_ = u; // faces away from the band keep u (halos included)
-    // Both halo fills are collective: every rank takes part, with or without the body.
+        throw std::logic_error("SurfaceVelocity::compute before load");
+    // The previous body's faces get u back (wide_ holds u on the owned faces); the halo
+    // fill below brings the neighbours' restored faces.
     for (int c = 0; c < dim; ++c)
-        for_each_in(u[c].owned(), [&](int i, int j, int k) { wide_[c](i, j, k) = u[c](i, j, k); });
-    halos_.fill(wide_);
+        for_each_in(changed_, [&](int i, int j, int k) { out_[c](i, j, k) = wide_[c](i, j, k); });
+    changed_ = Box{};
     if (body.patch().empty()) {
-        halos_.fill(out_);
+        halos_.fill(out_); // collective: every rank takes part, with or without the body
         return out_;
     }
 
@@ -73,7 +85,7 @@ const VelocityField& SurfaceVelocity::compute(const Body& body, const VelocityFi
     // may be stale, e.g. right after a restart).
     const Field& phi = body.phi();
     const real h = g.dx(0);
-    const real eps = eps_cells_ * h;
+    const real eps = eps_cells * h;
     if (psi_.data().empty() || psi_.begin() != phi.begin() || psi_.cells() != phi.cells())
         psi_ = Field::on_patch("psi", Location::Cell, phi.begin(), phi.cells(), dim);
     for_each_in(phi.owned(), [&](int i, int j, int k) {
@@ -126,6 +138,7 @@ const VelocityField& SurfaceVelocity::compute(const Body& body, const VelocityFi
     Box faces = body.patch().local;
     for (int d = 0; d < dim; ++d)
         faces.hi[d] = std::min(faces.hi[d] + 1, block.cells[d]);
+    changed_ = faces;
     for (int c = 0; c < dim; ++c)
         for_each_in(faces, [&](int i, int j, int k) {
             const Int3 hi_cell{i, j, k}, lo_cell = shifted(hi_cell, c, -1);

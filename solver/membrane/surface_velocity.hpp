@@ -41,13 +41,21 @@ namespace efsi {
 
 class SurfaceVelocity {
   public:
-    /// `eps_cells`: the body's smoothing width in cells. Throws InputError (naming the body)
-    /// when a rank's block is too thin for the interpolation's halo.
-    SurfaceVelocity(const HaloFiller& halos, real eps_cells, const std::string& body_name = "");
+    /// One instance serves every membrane body of a run (the interpolation source, a copy
+    /// of u with wide halos, is made once per step and shared). Throws InputError (naming
+    /// `body_name`, the first body that uses it) when a rank's block is too thin for the
+    /// interpolation's halo.
+    SurfaceVelocity(const HaloFiller& halos, const std::string& body_name = "");
 
-    /// u_e for `body` from the face velocity u (halos filled): u carried off the surface
-    /// along the normals near the band, u elsewhere. Halos of the result are filled.
-    const VelocityField& compute(const Body& body, const VelocityField& u);
+    /// Once per step, before compute(): u (halos filled) into the interpolation source and
+    /// the result. Collective.
+    void load(const VelocityField& u);
+
+    /// u_e for `body` (smoothing width `eps_cells` cells): u carried off the surface along
+    /// the normals near its band, u elsewhere; halos filled. Collective: every rank calls
+    /// it for every body, in the same order. The faces the previous call changed get u
+    /// back first, so the result for one body never carries another's band.
+    const VelocityField& compute(const Body& body, real eps_cells);
 
     /// Faces within reach - 1 cells of the surface get u_e, those beyond reach keep u, and
     /// between the two the weight of u_e falls linearly.
@@ -55,12 +63,12 @@ class SurfaceVelocity {
 
   private:
     const HaloFiller& halos_;
-    real eps_cells_;
     real reach_ = 5.0;
     int wide_halo_ = 8;  ///< ceil(reach) + 3
     VelocityField wide_; ///< u with wide halos, the interpolation source
-    VelocityField out_;  ///< u_e
-    Field psi_;          ///< signed distance on the body's patch
+    VelocityField out_;  ///< u_e of the last body, u elsewhere
+    Box changed_{};      ///< owned faces (all components) the last compute() changed
+    Field psi_;          ///< signed distance on the last body's patch
 };
 
 } // namespace efsi

@@ -102,8 +102,9 @@ TEST(SurfaceVelocity, LinearShearMatchesTheClosedFormToSecondOrder) {
             Body body("capsule", BodyKind::Membrane, false, dim);
             build_sphere(s, body, 1.0);
             const VelocityField u = sample(s, shear);
-            SurfaceVelocity sv(*s.halos, 1.0);
-            const VelocityField& ue = sv.compute(body, u);
+            SurfaceVelocity sv(*s.halos);
+            sv.load(u);
+            const VelocityField& ue = sv.compute(body, 1.0);
             // The same physical band at both levels: |s| <= 3.5 h_fine (inside the reach,
             // 4.5 cells, less one cell: a face's psi is its two cells' average).
             const real within = 3.5 * 0.025;
@@ -152,12 +153,61 @@ TEST(SurfaceVelocity, KinkAcrossTheMembraneIsRemoved) {
         };
         const VectorFunction rigid = [&](const Real3& x) { return rotation(x, 1.0); };
         const VelocityField u = sample(s, kinked);
-        SurfaceVelocity sv(*s.halos, 1.0);
-        const VelocityField& ue = sv.compute(body, u);
+        SurfaceVelocity sv(*s.halos);
+        sv.load(u);
+        const VelocityField& ue = sv.compute(body, 1.0);
         const real core = 2.3 * eps; // the band's core (phi in [0.01, 0.99])
         const real before = max_difference(s, u, rigid, core);
         const real after = max_difference(s, ue, rigid, core);
         EXPECT_GT(before, 0.1 * norm(omega) * kRadius * h / kRadius) << "dim " << dim;
         EXPECT_LT(after, 0.1 * before) << "dim " << dim;
+    }
+}
+
+// One SurfaceVelocity serves every membrane of a run: the result for a body must not depend
+// on the bodies computed before it in the same step (the faces a body changed get u back).
+// Two spheres on disjoint patches (on two ranks each lies on one rank, so the other rank
+// takes the empty-patch path).
+TEST(SurfaceVelocity, SharedAcrossBodiesGivesEachBodyItsOwnResult) {
+    for (int dim : {2, 3}) {
+        const real h = 0.05, radius = 0.3;
+        GridSetup s = make_setup(dim, {64, 34, 30}, h);
+        auto sphere_at = [&](Body& body, real x0) {
+            const int margin = 14; // radius 6 cells + reach 5 + the stencil
+            const int ic = int(std::lround((x0 - s.g.origin[0]) / h));
+            Box box{{ic - margin, 0, 0}, {ic + margin, s.g.cells[1], s.g.cells[2]}};
+            body.allocate(make_patch(box, *s.dec));
+            for_each_in(body.patch().local, [&](int i, int j, int k) {
+                const Real3 x = position(s.g, s.dec->block(), Location::Cell, i, j, k);
+                const Real3 r{x[0] - x0, x[1] - kCentre[1], dim == 3 ? x[2] - kCentre[2] : 0.0};
+                const real v = 0.5 * (1 - std::tanh((norm(r) - radius) / h));
+                body.phi()(i, j, k) = v < 1e-8 ? 0.0 : v;
+            });
+            s.halos->fill(body.phi(), body.patch());
+        };
+        Body a("a", BodyKind::Membrane, false, dim), b("b", BodyKind::Membrane, false, dim);
+        sphere_at(a, -0.75);
+        sphere_at(b, 0.75);
+        const VelocityField u = sample(s, [](const Real3& x) { return Real3{1.3 * x[1], 0, 0}; });
+
+        SurfaceVelocity shared(*s.halos);
+        shared.load(u);
+        const VelocityField ue_a = shared.compute(a, 1.0); // a copy
+        const VelocityField& ue_b = shared.compute(b, 1.0);
+        SurfaceVelocity alone(*s.halos);
+        alone.load(u);
+        const VelocityField& ue_b_alone = alone.compute(b, 1.0);
+
+        real changed_by_a = 0, differs = 0;
+        for (int c = 0; c < dim; ++c) {
+            for_each_in(u[c].owned(), [&](int i, int j, int k) {
+                changed_by_a = std::max(changed_by_a, std::abs(ue_a[c](i, j, k) - u[c](i, j, k)));
+            });
+            // Halos included: the next stage reads them.
+            for (std::size_t n = 0; n < ue_b[c].data().size(); ++n)
+                differs = std::max(differs, std::abs(ue_b[c].data()[n] - ue_b_alone[c].data()[n]));
+        }
+        EXPECT_GT(efsi::test::global_max(changed_by_a), 0.01) << "dim " << dim; // can fail
+        EXPECT_EQ(efsi::test::global_max(differs), 0.0) << "dim " << dim;
     }
 }
