@@ -38,8 +38,12 @@ from pathlib import Path
 import numpy as np
 
 
-def tension(lam, Es):
-    return Es / 3 * (lam - lam ** -3)
+def tension(lam, Es, C=None):
+    """z-invariant tension (lambda_z = 1): neo-Hookean, or Skalak in the seed's form
+    Ws = Es/6 ((Is + 1)^2 + C IIs^2 - 2 IIs - 1) = Es/6 (1 + C) (lambda^2 - 1)^2 there."""
+    if C is None:
+        return Es / 3 * (lam - lam ** -3)
+    return 2 * Es / 3 * (1 + C) * lam * (lam ** 2 - 1)
 
 
 def d_dtheta(f, k):
@@ -52,7 +56,7 @@ def spectral_filter(x, keep):
     return np.real(np.fft.ifft(xh, axis=0))
 
 
-def velocity(x, a, Es, mu, gamma, k):
+def velocity(x, a, Es, mu, gamma, k, C=None):
     """Marker velocities for positions x (N x 2)."""
     N = x.shape[0]
     dth = 2 * np.pi / N
@@ -60,7 +64,7 @@ def velocity(x, a, Es, mu, gamma, k):
     speed = np.linalg.norm(xt, axis=1)
     lam = speed / a
     t = xt / speed[:, None]
-    Tt = tension(lam, Es)[:, None] * t
+    Tt = tension(lam, Es, C)[:, None] * t
     F = np.c_[d_dtheta(Tt[:, 0], k), d_dtheta(Tt[:, 1], k)] / a       # d/dS_R (T t)
     w = F * a * dth                                                  # F dS_R per marker
     r = x[:, None, :] - x[None, :, :]
@@ -95,17 +99,18 @@ def shape(x):
     return A, (L - B) / (L + B), np.arctan2(v[1], v[0]) / np.pi
 
 
-def run(Ca, N=128, t_end=1.0, cfl=0.5, a=1.0, mu=1.0, gamma=1.0, filt=True):
+def run(Ca, N=128, t_end=1.0, cfl=0.5, a=1.0, mu=1.0, gamma=1.0, filt=True, C=None):
     Es = mu * gamma * a / Ca
     th = 2 * np.pi * np.arange(N) / N
     x = a * np.c_[np.cos(th), np.sin(th)]
     k = np.fft.fftfreq(N, 1.0 / N)
     keep = np.abs(k) < N / 3 if filt else np.ones(N, bool)
-    dt = min(0.01, cfl * mu * a * (2 * np.pi / N) / Es)
+    stiffness = Es if C is None else Es * (1 + C)  # small-strain dT/dlambda / (4/3)
+    dt = min(0.01, cfl * mu * a * (2 * np.pi / N) / stiffness)
     n = int(np.ceil(t_end / dt))
     dt = t_end / n
     rows = [(0.0, *shape(x))]
-    f = lambda y: velocity(y, a, Es, mu, gamma, k)  # noqa: E731
+    f = lambda y: velocity(y, a, Es, mu, gamma, k, C)  # noqa: E731
     for i in range(n):
         k1 = f(x)
         k2 = f(x + 0.5 * dt * k1)
@@ -128,6 +133,8 @@ def main(argv=None):
     ap.add_argument("--t-end", dest="t_end", type=float, default=1.0)
     ap.add_argument("--cfl", type=float, default=0.5)
     ap.add_argument("--no-filter", dest="filt", action="store_false")
+    ap.add_argument("--skalak-C", dest="skalak_C", type=float, default=None,
+                    help="Skalak law with area-dilation constant C (default: neo-Hookean)")
     ap.add_argument("--out", default="build/reference/capsule_bi")
     args = ap.parse_args(argv)
     out = Path(args.out)
@@ -136,11 +143,12 @@ def main(argv=None):
     for Ca in args.Ca:
         for N in args.N:
             t0 = time.time()
-            rows, x, dt = run(Ca, N, args.t_end, args.cfl, filt=args.filt)
-            tag = f"ca{Ca:g}_N{N}"
+            rows, x, dt = run(Ca, N, args.t_end, args.cfl, filt=args.filt, C=args.skalak_C)
+            law = "" if args.skalak_C is None else f"skalak_C{args.skalak_C:g}_"
+            tag = f"{law}ca{Ca:g}_N{N}"
             np.savetxt(out / f"bi_{tag}.csv", rows, delimiter=",",
                        header="t,area,D,theta_over_pi", comments="")
-            s = {"Ca": Ca, "N": N, "dt": dt, "D_final": rows[-1, 2],
+            s = {"Ca": Ca, "N": N, "skalak_C": args.skalak_C, "dt": dt, "D_final": rows[-1, 2],
                  "theta_over_pi_final": rows[-1, 3], "area_drift": rows[-1, 1] / rows[0, 1] - 1,
                  "seconds": time.time() - t0, "filter": args.filt}
             summary.append(s)

@@ -18,7 +18,7 @@ def mpi_env():
     return env
 
 
-def run_script(args, ranks=1, timeout=300, cwd=None):
+def run_script(args, ranks=1, timeout=900, cwd=None):
     """Run a reference script (path relative to reference/) serially or under mpirun."""
     cmd = [PY, str(REF / args[0])] + [str(a) for a in args[1:]]
     if ranks > 1:

@@ -46,3 +46,15 @@ def test_boundary_integral_converges_and_conserves_area():
     assert abs(r32[-1, 2] - r64[-1, 2]) < 0.01 * r64[-1, 2]
     assert abs(r64[-1, 1] / r64[0, 1] - 1) < 1e-3      # enclosed area kept
     assert abs(r64[10, 2] / (r64[10, 0] / 2) - 1) < 0.05  # D ~ t/2 at early times
+
+
+def test_boundary_integral_tension_is_the_laws_with_unit_z_stretch():
+    """The z-invariant tensions of capsule_bi_2d (written out by hand) are the principal
+    tension T1 of membrane_laws at (lambda, 1), for both laws."""
+    import membrane_laws as ml
+    lam = np.linspace(0.8, 1.6, 9)
+    t1_nh, _ = ml.principal_tensions("neo-hookean", lam, np.ones_like(lam), 3.0)
+    assert np.allclose(bi.tension(lam, 3.0), t1_nh, rtol=1e-13, atol=0)
+    for C in (1.0, 10.0):
+        t1_sk, _ = ml.principal_tensions("skalak", lam, np.ones_like(lam), 3.0, alpha=C)
+        assert np.allclose(bi.tension(lam, 3.0, C), t1_sk, rtol=1e-13, atol=0)

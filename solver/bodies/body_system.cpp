@@ -78,8 +78,14 @@ BodySystem::BodySystem(const Config& config, const Decomposition& dec, const Hal
                                     : nullptr);
         const bool surface = membrane && !b.pinned && b.strain_velocity == "surface";
         carried_by_surface_.push_back(surface);
-        if (surface && !surface_velocity_)
-            surface_velocity_ = std::make_unique<SurfaceVelocity>(halos, b.name);
+        if (surface && !surface_velocity_) {
+            // One instance for every membrane: its halo covers the largest reach asked for.
+            real reach = 0;
+            for (const BodyConfig& other : config.bodies)
+                if (other.kind == "membrane" && !other.pinned && other.strain_velocity == "surface")
+                    reach = std::max(reach, real(other.surface_velocity_reach));
+            surface_velocity_ = std::make_unique<SurfaceVelocity>(halos, b.name, reach);
+        }
         clipped_.push_back(0);
     }
 }
@@ -260,7 +266,8 @@ void BodySystem::advance(const VelocityField& u, real dt, long step, StageTimers
             const VelocityField* carrier = &u;
             if (carried_by_surface_[i])
                 timers.time("bodies_surface_velocity", [&] {
-                    carrier = &surface_velocity_->compute(body, cfg_.bodies[i].smoothing_width);
+                    carrier = &surface_velocity_->compute(body, cfg_.bodies[i].smoothing_width,
+                                                          cfg_.bodies[i].surface_velocity_reach);
                 });
             timers.time("bodies_tensor", [&] { transport_[i]->advance(body, *carrier, dt); });
         }

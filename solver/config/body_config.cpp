@@ -100,6 +100,12 @@ std::vector<BodyConfig> read_bodies(TableReader& top, const GlobalGrid& grid,
                      "membrane: velocity that carries Gs: surface (the velocity on phi = 1/2, "
                      "extended along the normals, so every layer of the band keeps the "
                      "membrane's strain) or local (each layer its own velocity)");
+        b.surface_velocity_reach =
+            r.number("surface_velocity_reach", 5.0, Range::closed(1.0, 8.0), "cells",
+                     "membrane, strain_velocity = surface: faces within reach - 1 cells of the "
+                     "surface take its velocity, blended into the local one by reach; 5 "
+                     "covers the band, 1.5 keeps stiff membranes (Es or the Skalak area "
+                     "modulus >~ 100 mu shear_rate a) stable (docs/method.md)");
         b.bending = b.bending_modulus > 0;
         r.finish();
         if (KeyCatalogue::instance().documenting) continue;

@@ -48,6 +48,7 @@ struct BodyConfig {
     /// Velocity that carries Gs: "surface" (the surface's, extended along the normals:
     /// every layer of the band shares the membrane's strain) or "local" (each layer its own).
     std::string strain_velocity = "surface";
+    real surface_velocity_reach = 5.0; ///< cells (strain_velocity = surface)
 };
 
 struct VofConfig {

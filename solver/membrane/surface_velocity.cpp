@@ -36,11 +36,15 @@ struct ValueAndGradient {
 } // namespace
 
 SurfaceVelocity::SurfaceVelocity(const HaloFiller& halos, const std::string& body_name)
-    : halos_(halos) {
+    : SurfaceVelocity(halos, body_name, default_reach) {}
+
+SurfaceVelocity::SurfaceVelocity(const HaloFiller& halos, const std::string& body_name,
+                                 real max_reach)
+    : halos_(halos), max_reach_(max_reach) {
     // The interpolated copy of u needs reach + 3 halo layers (foot displacement, cubic
     // stencil, face offset), and a neighbour can only send the layers it owns.
     const Decomposition& dec = halos.decomposition();
-    wide_halo_ = int(std::ceil(reach_)) + 3;
+    wide_halo_ = int(std::ceil(max_reach_)) + 3;
     for (int d = 0; d < dec.dim(); ++d) {
         const int thinnest = int(std::lround(dec.min(real(dec.block().cells[d]))));
         if (thinnest < wide_halo_)
@@ -64,13 +68,15 @@ void SurfaceVelocity::load(const VelocityField& u) {
     changed_ = Box{};
 }
 
-const VelocityField& SurfaceVelocity::compute(const Body& body, real eps_cells) {
+const VelocityField& SurfaceVelocity::compute(const Body& body, real eps_cells, real reach_cells) {
     const Decomposition& dec = halos_.decomposition();
     const GlobalGrid& g = dec.grid();
     const LocalBlock& block = dec.block();
     const int dim = g.dim;
     if (wide_.dim != dim || wide_[0].data().empty())
         throw std::logic_error("SurfaceVelocity::compute before load");
+    if (reach_cells > max_reach_)
+        throw std::logic_error("SurfaceVelocity::compute: reach beyond the halo's");
     // The previous body's faces get u back (wide_ holds u on the owned faces); the halo
     // fill below brings the neighbours' restored faces.
     for (int c = 0; c < dim; ++c)
@@ -146,7 +152,7 @@ const VelocityField& SurfaceVelocity::compute(const Body& body, real eps_cells) 
             const real s = 0.5 * (psi_(lo_cell) + psi_(hi_cell));
             // Full weight to reach - 1 cells, then a linear ramp to u: a switch would turn
             // round-off differences (another decomposition) into O(1) ones.
-            const real weight = std::clamp(reach_ - std::abs(s) / h, 0.0, 1.0);
+            const real weight = std::clamp(reach_cells - std::abs(s) / h, 0.0, 1.0);
             if (weight == 0) return;
             const Real3 ga = grad_psi(lo_cell), gb = grad_psi(hi_cell);
             Real3 gf{0, 0, 0};

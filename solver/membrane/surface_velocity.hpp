@@ -24,11 +24,18 @@
 // Numerics: each velocity component is interpolated at the foot point from its own
 // staggered grid by tensor-product Catmull-Rom cubics (C1, exact for quadratics), so the
 // velocity gradient of u_e that stretches Gs is continuous. u_e replaces u on the faces
-// within 4 cells of the surface (enough for the extension core, |psi| <= 2.3 eps at eps <=
-// 1 cell, and the transport's two-cell stencil), blends linearly into u between 4 and 5
-// cells (no switch: round-off must not decide which velocity a face gets), and u is kept
-// beyond; the tensor extension overwrites the cells there. The foot-point stencil reaches
-// 5 + 3 cells, so the interpolated copy of u carries 8 halo layers.
+// within reach - 1 cells of the surface (default reach 5: enough for the extension core,
+// |psi| <= 2.3 eps at eps <= 1 cell, and the transport's two-cell stencil), blends
+// linearly into u between reach - 1 and reach cells (no switch: round-off must not decide
+// which velocity a face gets), and u is kept beyond; the tensor extension overwrites the
+// cells there. The foot-point stencil reaches reach + 3 cells, so the interpolated copy
+// of u carries ceil(reach) + 3 halo layers.
+//
+// The reach is a body key (surface_velocity_reach) because the default is unstable for
+// stiff membranes: the band's outer layers then take their strain from the surface but
+// push on their own fluid, and the exchange of energy between Gs and the flow is no longer
+// balanced. Measured (2D, d/16, docs/method.md): neo-Hookean Es = 160 mu shear_rate a and
+// Skalak C = 10 at Ca 0.025 blow up with reach 5 and run stably with reach 1.5.
 #pragma once
 
 #include "bodies/body.hpp"
@@ -47,24 +54,29 @@ class SurfaceVelocity {
     /// interpolation's halo.
     SurfaceVelocity(const HaloFiller& halos, const std::string& body_name = "");
 
+    /// `max_reach` (cells): the largest reach any body will ask compute() for.
+    SurfaceVelocity(const HaloFiller& halos, const std::string& body_name, real max_reach);
+
     /// Once per step, before compute(): u (halos filled) into the interpolation source and
     /// the result. Collective.
     void load(const VelocityField& u);
 
     /// u_e for `body` (smoothing width `eps_cells` cells): u carried off the surface along
-    /// the normals near its band, u elsewhere; halos filled. Collective: every rank calls
-    /// it for every body, in the same order. The faces the previous call changed get u
-    /// back first, so the result for one body never carries another's band.
-    const VelocityField& compute(const Body& body, real eps_cells);
+    /// the normals near its band, u elsewhere; halos filled. Faces within `reach_cells` - 1
+    /// cells of the surface get u_e, those beyond `reach_cells` keep u, and between the two
+    /// the weight of u_e falls linearly (reach_cells <= the constructor's max_reach).
+    /// Collective: every rank calls it for every body, in the same order. The faces the
+    /// previous call changed get u back first, so the result for one body never carries
+    /// another's band.
+    const VelocityField& compute(const Body& body, real eps_cells, real reach_cells = 5.0);
 
-    /// Faces within reach - 1 cells of the surface get u_e, those beyond reach keep u, and
-    /// between the two the weight of u_e falls linearly.
-    real reach() const { return reach_; }
+    /// The default reach (cells).
+    static constexpr real default_reach = 5.0;
 
   private:
     const HaloFiller& halos_;
-    real reach_ = 5.0;
-    int wide_halo_ = 8;  ///< ceil(reach) + 3
+    real max_reach_ = default_reach;
+    int wide_halo_ = 8;  ///< ceil(max_reach) + 3
     VelocityField wide_; ///< u with wide halos, the interpolation source
     VelocityField out_;  ///< u_e of the last body, u elsewhere
     Box changed_{};      ///< owned faces (all components) the last compute() changed

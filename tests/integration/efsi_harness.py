@@ -44,7 +44,7 @@ def run(args, case, out=None, ranks=1, sets=(), extra=(), command="run", expect=
     # 284 s polling, 3.8 s yielding.
     env = dict(os.environ, OMPI_ALLOW_RUN_AS_ROOT="1", OMPI_ALLOW_RUN_AS_ROOT_CONFIRM="1",
                OMPI_MCA_mpi_yield_when_idle="1")
-    proc = subprocess.run(cmd, capture_output=True, text=True, env=env, timeout=100)
+    proc = subprocess.run(cmd, capture_output=True, text=True, env=env, timeout=800)
     if expect is not None and proc.returncode != expect:
         fail(f"{' '.join(cmd)}\nexited {proc.returncode}, expected {expect}\n"
              f"stdout:\n{proc.stdout[-3000:]}\nstderr:\n{proc.stderr[-3000:]}")

@@ -38,7 +38,7 @@ def driver(dim, n, mp, kr, ranks=1, extra=()):
     cmd = [] if ranks == 1 else [args.mpiexec, "-np", str(ranks), "--oversubscribe"]
     cmd += [exe, "--dim", str(dim), "--cells", str(n), "--map", mp, "--es", "0",
             "--bending", "1", "--kappa-r", kr, *extra]
-    out = subprocess.run(cmd, capture_output=True, text=True, env=env, timeout=100)
+    out = subprocess.run(cmd, capture_output=True, text=True, env=env, timeout=800)
     check(out.returncode == 0, f"{' '.join(cmd)} runs ({out.stderr[-300:]})")
     return json.loads(out.stdout)
 

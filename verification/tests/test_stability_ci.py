@@ -18,7 +18,7 @@ pytestmark = pytest.mark.skipif(not EFSI.exists(), reason=f"{EFSI} not built")
 
 def test_stability_ci():
     res = subprocess.run([sys.executable, str(REPO / "verification" / "run.py"), "--tier", "ci",
-                          "stability"], cwd=REPO, capture_output=True, text=True, timeout=300)
+                          "stability"], cwd=REPO, capture_output=True, text=True, timeout=900)
     assert res.returncode == 0, res.stdout[-3000:] + res.stderr[-3000:]
     r = json.loads((OUT / "stability" / "result.json").read_text())
     assert r["status"] == "ok" and r["tier"] == "ci"

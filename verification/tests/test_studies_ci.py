@@ -19,7 +19,7 @@ pytestmark = pytest.mark.skipif(not EFSI.exists(), reason=f"{EFSI} not built")
 def results():
     res = subprocess.run([sys.executable, str(REPO / "verification" / "run.py"), "--tier", "ci",
                           "flow_mms", "channel_flows"], cwd=REPO, capture_output=True,
-                         text=True, timeout=300)
+                         text=True, timeout=900)
     assert res.returncode == 0, res.stdout[-3000:] + res.stderr[-3000:]
     out = {}
     for name in ("flow_mms", "channel_flows"):

@@ -17,7 +17,7 @@ pytestmark = pytest.mark.skipif(not EXE.exists(), reason=f"{EXE} not built")
 
 def run(cells: int) -> dict:
     out = subprocess.run([str(EXE), "--flow", "rotation", "--dim", "2", "--cells", str(cells),
-                          "--time", "1"], capture_output=True, text=True, timeout=120, check=True)
+                          "--time", "1"], capture_output=True, text=True, timeout=600, check=True)
     return json.loads(out.stdout)
 
 
