@@ -285,6 +285,10 @@ def run(ctx):
     notes = "Runs are cached per parameters under runs/ and resumed from checkpoints."
     if skipped:
         notes += " Not run (EFSI_VERIFY_CACHED_ONLY=1, no cached result): " + ", ".join(skipped) + "."
+    from _flowio import USED_RECORDS
+    if USED_RECORDS:
+        notes += (" Taken from committed records (EFSI_VERIFY_RECORDS=1, verification/records/): "
+                  + ", ".join(USED_RECORDS) + ".")
     return {"metrics": metrics, "tables": {"runs": rows, "skalak": skalak_rows,
                                            "interface_width": wrows,
                                            "not_run": [{"run": r} for r in skipped]},
