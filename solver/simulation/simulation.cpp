@@ -41,6 +41,22 @@ void drop_rows_after(const fs::path& file, double t) {
     std::ofstream(file) << kept;
 }
 
+/// A possible cause worth naming when a run with membranes blows up: Gs carried by the
+/// surface velocity over a wide reach is unstable for stiff membranes (docs/method.md, "The
+/// reach of the surface velocity, and stiff membranes"). Empty when no body qualifies.
+std::string membrane_instability_hint(const Config& cfg) {
+    std::string names;
+    for (const BodyConfig& b : cfg.bodies)
+        if (b.kind == "membrane" && !b.pinned && b.strain_velocity == "surface" &&
+            b.surface_velocity_reach > 1.5)
+            names += (names.empty() ? "'" : ", '") + b.name + "'";
+    if (names.empty()) return "";
+    return fmt::format(". Membranes that carry Gs with the surface velocity over more than "
+                       "1.5 cells ({}) are unstable when stiff, whatever dt; if yours is stiff, "
+                       "set body.surface_velocity_reach = 1.5 (docs/method.md)",
+                       names);
+}
+
 } // namespace
 
 Simulation::Simulation(const Config& config, const RunOptions& options, MPI_Comm world)
@@ -228,9 +244,10 @@ void Simulation::check_stability(const TimeStepChoice& choice) {
     if (why.empty()) return;
     const std::string where = locate_worst_velocity(*dec_, s);
     throw RunError(fmt::format("UNSTABLE at step {}, t = {:.6e} s: {}; {}. The last good "
-                               "checkpoint (if any) is kept in {}",
+                               "checkpoint (if any) is kept in {}{}",
                                s.step, s.time, why, where,
-                               (opt_.output_dir / "checkpoint.h5").string()));
+                               (opt_.output_dir / "checkpoint.h5").string(),
+                               membrane_instability_hint(cfg_)));
 }
 
 void Simulation::write_outputs_if_due(bool final_step) {
@@ -339,9 +356,10 @@ int Simulation::run() {
                 } catch (const RunError& e) {
                     throw RunError(fmt::format(
                         "UNSTABLE at step {}, t = {:.6e} s: {}; {}. The last good checkpoint "
-                        "(if any) is kept in {}",
+                        "(if any) is kept in {}{}",
                         s.step, s.time, e.what(), locate_worst_velocity(*dec_, s),
-                        (opt_.output_dir / "checkpoint.h5").string()));
+                        (opt_.output_dir / "checkpoint.h5").string(),
+                        membrane_instability_hint(cfg_)));
                 }
             }
             ++steps_this_run_;
