@@ -76,13 +76,13 @@ BodySystem::BodySystem(const Config& config, const Decomposition& dec, const Hal
         extension_.push_back(extend ? std::make_unique<TensorExtension>(
                                           halos, b.extension_threshold, layers, membrane)
                                     : nullptr);
-        const bool surface = membrane && !b.pinned && b.strain_velocity == "surface";
+        const bool surface = b.carried_by_surface_velocity();
         carried_by_surface_.push_back(surface);
         if (surface && !surface_velocity_) {
             // One instance for every membrane: its halo covers the largest reach asked for.
             real reach = 0;
             for (const BodyConfig& other : config.bodies)
-                if (other.kind == "membrane" && !other.pinned && other.strain_velocity == "surface")
+                if (other.carried_by_surface_velocity())
                     reach = std::max(reach, real(other.surface_velocity_reach));
             surface_velocity_ = std::make_unique<SurfaceVelocity>(halos, b.name, reach);
         }

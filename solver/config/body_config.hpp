@@ -49,6 +49,11 @@ struct BodyConfig {
     /// every layer of the band shares the membrane's strain) or "local" (each layer its own).
     std::string strain_velocity = "surface";
     real surface_velocity_reach = 5.0; ///< cells (strain_velocity = surface)
+
+    /// A moving membrane whose Gs is carried by the surface velocity.
+    bool carried_by_surface_velocity() const {
+        return kind == "membrane" && !pinned && strain_velocity == "surface";
+    }
 };
 
 struct VofConfig {

@@ -47,8 +47,7 @@ void drop_rows_after(const fs::path& file, double t) {
 std::string membrane_instability_hint(const Config& cfg) {
     std::string names;
     for (const BodyConfig& b : cfg.bodies)
-        if (b.kind == "membrane" && !b.pinned && b.strain_velocity == "surface" &&
-            b.surface_velocity_reach > 1.5)
+        if (b.carried_by_surface_velocity() && b.surface_velocity_reach > 1.5)
             names += (names.empty() ? "'" : ", '") + b.name + "'";
     if (names.empty()) return "";
     return fmt::format(". Membranes that carry Gs with the surface velocity over more than "
