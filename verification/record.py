@@ -16,7 +16,7 @@ import sys
 from pathlib import Path
 
 sys.path.insert(0, str(Path(__file__).resolve().parent / "studies"))
-from _flowio import RECORD_FILES, _finished, record_dir  # noqa: E402
+from _flowio import RECORD_FILES, record_dir, run_finished  # noqa: E402
 
 REPO = Path(__file__).resolve().parents[1]
 
@@ -27,13 +27,13 @@ def main(argv: list[str]) -> int:
         return 2
     for arg in argv:
         out = Path(arg).resolve()
-        if not _finished(out, None):
+        if not run_finished(out, None):
             print(f"{out}: not a completed run (summary.json status), not recorded")
             return 1
         rec = record_dir(out)
         rec.mkdir(parents=True, exist_ok=True)
-        for name in RECORD_FILES[:-1]:
-            if (out / name).exists():
+        for name in RECORD_FILES:
+            if name != "record.json" and (out / name).exists():
                 shutil.copy2(out / name, rec / name)
         efsi = REPO / "build" / "bin" / "efsi"
         meta = {

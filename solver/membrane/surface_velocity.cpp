@@ -35,9 +35,6 @@ struct ValueAndGradient {
 
 } // namespace
 
-SurfaceVelocity::SurfaceVelocity(const HaloFiller& halos, const std::string& body_name)
-    : SurfaceVelocity(halos, body_name, default_reach) {}
-
 SurfaceVelocity::SurfaceVelocity(const HaloFiller& halos, const std::string& body_name,
                                  real max_reach)
     : halos_(halos), max_reach_(max_reach) {

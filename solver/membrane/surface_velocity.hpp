@@ -48,14 +48,17 @@ namespace efsi {
 
 class SurfaceVelocity {
   public:
+    /// The default reach (cells), and the one that keeps stiff membranes stable.
+    static constexpr real default_reach = 5.0;
+    static constexpr real stiff_membrane_reach = 1.5;
+
     /// One instance serves every membrane body of a run (the interpolation source, a copy
     /// of u with wide halos, is made once per step and shared). Throws InputError (naming
     /// `body_name`, the first body that uses it) when a rank's block is too thin for the
     /// interpolation's halo.
-    SurfaceVelocity(const HaloFiller& halos, const std::string& body_name = "");
-
     /// `max_reach` (cells): the largest reach any body will ask compute() for.
-    SurfaceVelocity(const HaloFiller& halos, const std::string& body_name, real max_reach);
+    SurfaceVelocity(const HaloFiller& halos, const std::string& body_name = "",
+                    real max_reach = default_reach);
 
     /// Once per step, before compute(): u (halos filled) into the interpolation source and
     /// the result. Collective.
@@ -68,10 +71,8 @@ class SurfaceVelocity {
     /// Collective: every rank calls it for every body, in the same order. The faces the
     /// previous call changed get u back first, so the result for one body never carries
     /// another's band.
-    const VelocityField& compute(const Body& body, real eps_cells, real reach_cells = 5.0);
-
-    /// The default reach (cells).
-    static constexpr real default_reach = 5.0;
+    const VelocityField& compute(const Body& body, real eps_cells,
+                                 real reach_cells = default_reach);
 
   private:
     const HaloFiller& halos_;

@@ -3,6 +3,7 @@
 #include "core/error.hpp"
 #include "flow/initial_conditions.hpp"
 #include "io/field_output.hpp"
+#include "membrane/surface_velocity.hpp"
 #include "time/time_step_control.hpp"
 
 #include <fmt/core.h>
@@ -47,13 +48,15 @@ void drop_rows_after(const fs::path& file, double t) {
 std::string membrane_instability_hint(const Config& cfg) {
     std::string names;
     for (const BodyConfig& b : cfg.bodies)
-        if (b.carried_by_surface_velocity() && b.surface_velocity_reach > 1.5)
+        if (b.carried_by_surface_velocity() &&
+            b.surface_velocity_reach > SurfaceVelocity::stiff_membrane_reach)
             names += (names.empty() ? "'" : ", '") + b.name + "'";
     if (names.empty()) return "";
+    const real r = SurfaceVelocity::stiff_membrane_reach;
     return fmt::format(". Membranes that carry Gs with the surface velocity over more than "
-                       "1.5 cells ({}) are unstable when stiff, whatever dt; if yours is stiff, "
-                       "set body.surface_velocity_reach = 1.5 (docs/method.md)",
-                       names);
+                       "{} cells ({}) are unstable when stiff, whatever dt; if yours is stiff, "
+                       "set body.surface_velocity_reach = {} (docs/method.md)",
+                       r, names, r);
 }
 
 } // namespace

@@ -94,7 +94,7 @@ def record_dir(out: Path) -> Path:
     return RECORDS / out.parent.parent.name / out.name
 
 
-def _finished(out: Path, t_end: float | None) -> bool:
+def run_finished(out: Path, t_end: float | None) -> bool:
     summary = Path(out) / "summary.json"
     if not summary.exists():
         return False
@@ -108,10 +108,10 @@ def completed(out: Path, t_end: float | None = None) -> bool:
     import os
     import shutil
 
-    if _finished(out, t_end):
+    if run_finished(out, t_end):
         return True
     rec = record_dir(out)
-    if os.environ.get("EFSI_VERIFY_RECORDS") != "1" or not _finished(rec, t_end):
+    if os.environ.get("EFSI_VERIFY_RECORDS") != "1" or not run_finished(rec, t_end):
         return False
     Path(out).mkdir(parents=True, exist_ok=True)
     for name in RECORD_FILES:

@@ -93,9 +93,8 @@ def run_one(ctx, dim: int, n: int, ca: float, t_end: float, skalak_c: float | No
             width: float = 1.0, reach: float = 5.0) -> Path:
     case = ctx.repo / "cases" / ("capsule_shear" if dim == 3 else "capsule_shear_2d")
     sets = run_sets(dim, n, ca, t_end, skalak_c, width, reach)
-    return cached_run(ctx, case, run_dir(ctx, dim, n, ca, t_end, skalak_c, width, reach), sets,
-                      t_end,
-                      ranks=ctx.long_ranks if dim == 3 else 1)
+    out = run_dir(ctx, dim, n, ca, t_end, skalak_c, width, reach)
+    return cached_run(ctx, case, out, sets, t_end, ranks=ctx.long_ranks if dim == 3 else 1)
 
 
 def run_sets(dim: int, n: int, ca: float, t_end: float, skalak_c: float | None = None,
