@@ -26,10 +26,11 @@ test: build
 verify: build
 	$(PYTHON) verification/run.py --tier quick $(STUDY)
 
+# Full-tier studies that finish are kept in verification/results/ (committed) and the page
+# docs/verification.md is regenerated from them, also after a single study or a failure.
 verify-full: build
-	$(PYTHON) verification/run.py --tier full $(STUDY)
-	@# the whole full tier regenerates docs/verification.md; a single study does not
-	@if [ -z "$(STUDY)" ]; then $(PYTHON) verification/publish.py; fi
+	$(PYTHON) verification/run.py --tier full $(STUDY); st=$$?; \
+	  $(PYTHON) verification/publish.py && exit $$st
 
 format:
 	git ls-files '*.cpp' '*.hpp' | xargs clang-format -i

@@ -6,7 +6,8 @@
 Copies the run's small files (bodies.csv, diagnostics.csv, summary.json, case.toml; no
 fields, no checkpoint) and writes record.json (commit, efsi version, date). A study run with
 EFSI_VERIFY_RECORDS=1 takes a run missing from build/verification from its record
-(studies/_flowio.py). Only runs that completed are recorded.
+(studies/_flowio.py). Only finished runs are recorded: completed, or stopped UNSTABLE
+(a result too: the study reports where it stopped).
 """
 import datetime
 import json
@@ -27,8 +28,9 @@ def main(argv: list[str]) -> int:
         return 2
     for arg in argv:
         out = Path(arg).resolve()
-        if not run_finished(out, None):
-            print(f"{out}: not a completed run (summary.json status), not recorded")
+        if not run_finished(out, None, allow_unstable=True):
+            print(f"{out}: not a finished run (summary.json status completed or unstable), "
+                  "not recorded")
             return 1
         rec = record_dir(out)
         rec.mkdir(parents=True, exist_ok=True)

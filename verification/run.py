@@ -16,7 +16,9 @@ it ran, the software versions and the wall time) and ``build/verification/report
 collecting every result present.
 
 Tiers: ``ci`` is the smallest (runs inside the test budget), ``quick`` is minutes,
-``full`` is the real resolutions (hours allowed).
+``full`` is the real resolutions (hours allowed). A full-tier study that finishes is also
+kept in ``verification/results/<name>/`` (committed; ``--no-store`` skips it), from which
+``verification/publish.py`` writes docs/verification.md.
 """
 from __future__ import annotations
 
@@ -36,6 +38,9 @@ STUDIES_DIR = REPO / "verification" / "studies"
 # EFSI_VERIFY_OUT moves the results (the CI test of every study's ci tier writes elsewhere, so
 # that it does not overwrite the quick/full results a developer keeps in build/verification).
 OUT_ROOT = Path(os.environ.get("EFSI_VERIFY_OUT", REPO / "build" / "verification"))
+# Full-tier results that finished are kept here (committed; verification/publish.py builds
+# docs/verification.md from them). EFSI_VERIFY_STORE moves it (tests).
+STORE_ROOT = Path(os.environ.get("EFSI_VERIFY_STORE", REPO / "verification" / "results"))
 
 
 class Context:
@@ -82,14 +87,17 @@ class Context:
         return res
 
     def run_efsi(self, case: str | Path, outdir: Path, sets: dict | None = None,
-                 ranks: int = 1, extra: list[str] | None = None) -> dict:
-        """Run the C++ solver on a case and return its summary.json as a dict."""
+                 ranks: int = 1, extra: list[str] | None = None,
+                 check: bool = True) -> dict | None:
+        """Run the C++ solver on a case and return its summary.json as a dict (None when
+        an unchecked run wrote none)."""
         cmd = [self.efsi, "run", case, "--output", outdir]
         for k, v in (sets or {}).items():
             cmd += ["--set", f"{k}={v}"]
         cmd += extra or []
-        self.run(cmd, ranks=ranks)
-        return json.loads((Path(outdir) / "summary.json").read_text())
+        self.run(cmd, ranks=ranks, check=check)
+        summary = Path(outdir) / "summary.json"
+        return json.loads(summary.read_text()) if summary.exists() else None
 
 
 def versions() -> dict:
@@ -104,6 +112,29 @@ def versions() -> dict:
         out["efsi"] = subprocess.run([str(efsi), "--version"], text=True,
                                      capture_output=True).stdout.strip()
     return out
+
+
+def store_full_result(name: str, result: dict) -> Path:
+    """Keep a full-tier result in verification/results/<name>/ (committed): result.json
+    with its figures beside it, paths relative to the repository. The full tier takes
+    longer than a working session on a 2-core machine, so docs/verification.md is
+    assembled from these, each stored at the commit its versions name."""
+    import shutil
+
+    dest = STORE_ROOT / name
+    if dest.exists():
+        shutil.rmtree(dest)
+    dest.mkdir(parents=True)
+    stored = dict(result)
+    stored["figures"] = []
+    for fig in result.get("figures", []):
+        src = Path(fig)
+        if src.exists():
+            shutil.copyfile(src, dest / src.name)
+            stored["figures"].append(str((dest / src.name).relative_to(REPO)))
+    stored["stored"] = time.strftime("%Y-%m-%d")
+    (dest / "result.json").write_text(json.dumps(stored, indent=2, default=str) + "\n")
+    return dest
 
 
 def discover() -> dict[str, Path]:
@@ -151,6 +182,8 @@ def main() -> int:
     ap.add_argument("studies", nargs="*", help="study names (default: all)")
     ap.add_argument("--tier", default="quick", choices=["ci", "quick", "full"])
     ap.add_argument("--list", action="store_true", help="list the studies and exit")
+    ap.add_argument("--no-store", action="store_true",
+                    help="full tier: do not keep the results in verification/results/")
     args = ap.parse_args()
 
     found = discover()
@@ -187,6 +220,8 @@ def main() -> int:
         (ctx.outdir / "result.json").write_text(json.dumps(result, indent=2, default=str))
         for k, v in result["metrics"].items():
             print(f"   {k} = {v}")
+        if args.tier == "full" and result["status"] == "ok" and not args.no_store:
+            print(f"   stored in {store_full_result(name, result)}")
         print(f"   -> {ctx.outdir / 'result.json'} ({result['wall_seconds']:.1f} s)",
               flush=True)
     print(f"report: {write_report()}")

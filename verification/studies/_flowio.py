@@ -94,24 +94,34 @@ def record_dir(out: Path) -> Path:
     return RECORDS / out.parent.parent.name / out.name
 
 
-def run_finished(out: Path, t_end: float | None) -> bool:
+def run_status(out: Path) -> dict | None:
+    """The run's summary.json (status, time, ...) or None when it has none."""
     summary = Path(out) / "summary.json"
-    if not summary.exists():
+    return json.loads(summary.read_text()) if summary.exists() else None
+
+
+def run_finished(out: Path, t_end: float | None, allow_unstable: bool = False) -> bool:
+    """True when the run in ``out`` completed (at ``t_end``, if given) or, with
+    ``allow_unstable``, stopped UNSTABLE: either way rerunning it would not change it."""
+    s = run_status(out)
+    if s is None:
         return False
-    s = json.loads(summary.read_text())
+    if allow_unstable and s.get("status") == "unstable":
+        return True
     return s.get("status") == "completed" and (t_end is None or abs(s["time"] - t_end) < 1e-9)
 
 
-def completed(out: Path, t_end: float | None = None) -> bool:
-    """True when ``out`` holds a run that completed (at ``t_end``, if given); with
-    EFSI_VERIFY_RECORDS=1 a completed committed record of it is copied in first."""
+def completed(out: Path, t_end: float | None = None, allow_unstable: bool = False) -> bool:
+    """True when ``out`` holds a finished run (run_finished); with EFSI_VERIFY_RECORDS=1 a
+    finished committed record of it is copied in first."""
     import os
     import shutil
 
-    if run_finished(out, t_end):
+    if run_finished(out, t_end, allow_unstable):
         return True
     rec = record_dir(out)
-    if os.environ.get("EFSI_VERIFY_RECORDS") != "1" or not run_finished(rec, t_end):
+    if os.environ.get("EFSI_VERIFY_RECORDS") != "1" or not run_finished(rec, t_end,
+                                                                        allow_unstable):
         return False
     Path(out).mkdir(parents=True, exist_ok=True)
     for name in RECORD_FILES:
@@ -124,13 +134,18 @@ def completed(out: Path, t_end: float | None = None) -> bool:
 
 
 def cached_run(ctx, case: Path, out: Path, sets: dict, t_end: float | None = None,
-               ranks: int = 1) -> Path:
-    """Run ``case`` into ``out`` unless a completed run is there; a run cut short resumes
-    from its last checkpoint."""
-    if completed(out, t_end):
+               ranks: int = 1, allow_unstable: bool = False) -> Path:
+    """Run ``case`` into ``out`` unless a finished run is there; a run cut short resumes
+    from its last checkpoint. With ``allow_unstable`` a run that stops UNSTABLE (exit 3,
+    summary status "unstable") is a result, not an error: the caller reports where it
+    stopped."""
+    if completed(out, t_end, allow_unstable):
         return out
     extra = ["--restart", str(out / "checkpoint.h5")] if (out / "checkpoint.h5").exists() else []
-    ctx.run_efsi(case, out, sets=sets, extra=extra, ranks=ranks)
+    res = ctx.run_efsi(case, out, sets=sets, extra=extra, ranks=ranks, check=not allow_unstable)
+    if allow_unstable and not run_finished(out, t_end, allow_unstable=True):
+        raise RuntimeError(f"run {out} neither completed nor stopped UNSTABLE: "
+                           f"{(res or {}).get('status', 'no summary.json')}")
     return out
 
 

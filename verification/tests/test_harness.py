@@ -58,3 +58,74 @@ def test_committed_records_fill_the_cache_only_when_asked(tmp_path, monkeypatch)
     (rec / "summary.json").write_text(json.dumps({"status": "unstable", "time": 2.0}))
     other = tmp_path / "build3" / "capsule_shear" / "runs" / "3d_n16_ca0.05_t2"
     assert not _flowio.completed(other, 2.0)
+    assert _flowio.completed(other, 2.0, allow_unstable=True)  # stopped UNSTABLE: a result
+
+
+class _FakeCtx:
+    """Stands in for run.Context: run_efsi writes the summary.json a solver run would."""
+
+    def __init__(self, status: str | None):
+        self.status, self.calls = status, []
+
+    def run_efsi(self, case, out, sets=None, ranks=1, extra=None, check=True):
+        self.calls.append((check, list(extra or [])))
+        out.mkdir(parents=True, exist_ok=True)
+        if self.status is None:
+            return None
+        (out / "summary.json").write_text(json.dumps({"status": self.status, "time": 0.7}))
+        return {"status": self.status}
+
+
+def test_cached_run_takes_an_unstable_stop_as_a_result_only_when_allowed(tmp_path):
+    sys.path.insert(0, str(REPO / "verification" / "studies"))
+    import _flowio
+
+    out = tmp_path / "runs" / "a"
+    ctx = _FakeCtx("unstable")
+    assert _flowio.cached_run(ctx, Path("case"), out, {}, 2.0, allow_unstable=True) == out
+    assert ctx.calls == [(False, [])]  # the solver's exit 3 is not an error here
+    _flowio.cached_run(ctx, Path("case"), out, {}, 2.0, allow_unstable=True)
+    assert len(ctx.calls) == 1  # finished: not rerun
+    # Without allow_unstable the run is not finished (it would rerun, checked).
+    _flowio.cached_run(ctx, Path("case"), out, {}, 2.0)
+    assert ctx.calls[-1][0] is True
+    # A run that wrote no summary (crashed) is an error even when unstable stops are allowed.
+    (out / "checkpoint.h5").write_text("")
+    crashed = _FakeCtx(None)
+    import pytest
+
+    with pytest.raises(RuntimeError, match="neither completed nor stopped UNSTABLE"):
+        _flowio.cached_run(crashed, Path("case"), tmp_path / "runs" / "b", {}, 2.0,
+                           allow_unstable=True)
+
+
+def test_full_tier_results_are_stored_and_published_with_a_status(tmp_path, monkeypatch):
+    """run.py keeps a finished full-tier result (figures beside it, repository-relative
+    paths); publish.py writes the page from the stored results and names the studies that
+    have none yet."""
+    store = tmp_path / "store"
+    monkeypatch.setattr(harness, "STORE_ROOT", store)
+    monkeypatch.setattr(harness, "REPO", tmp_path)
+    fig = tmp_path / "build" / "flow_mms" / "conv.png"
+    fig.parent.mkdir(parents=True)
+    fig.write_bytes(b"\x89PNG fake")
+    dest = harness.store_full_result("flow_mms", {
+        "tier": "full", "status": "ok", "metrics": {"order_u_L2": 1.99},
+        "figures": [str(fig)], "versions": {"git": "abcdef0123456789"}})
+    stored = json.loads((dest / "result.json").read_text())
+    assert stored["figures"] == ["store/flow_mms/conv.png"]
+    assert (dest / "conv.png").read_bytes() == fig.read_bytes() and stored["stored"]
+    # publish resolves figures against the real repository: give it an absolute path.
+    stored["figures"] = [str(dest / "conv.png")]
+    (dest / "result.json").write_text(json.dumps(stored))
+    docs = tmp_path / "docs"
+    out = subprocess.run([sys.executable, str(REPO / "verification" / "publish.py"),
+                          "--results", str(store), "--docs", str(docs)],
+                         capture_output=True, text=True)
+    assert out.returncode == 0, out.stderr
+    page = (docs / "verification.md").read_text()
+    n = len(harness.discover())
+    assert f"**Status: partial.** 1 of {n} studies have a full-tier result" in page
+    assert "capsule_shear" in page.split("not yet:")[1].split("\n")[0]
+    assert "commit abcdef0123" in page and "| order_u_L2 | 1.99 |" in page
+    assert page.index("## Status") < page.index("## Headline figures")
