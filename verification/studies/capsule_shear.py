@@ -207,12 +207,18 @@ def run(ctx):
                "D_t1": float(np.interp(1.0, t, d)) if t[-1] >= 1.0 else float("nan"),
                "D_end": float(d[-1]), "t_end": float(t[-1]),
                "stopped": "completed" if unstable is None else f"UNSTABLE at t = {unstable:.4g}",
-               "volume_drift": drift, "wall_seconds": wall,
+               "volume_drift": drift,
+               # the membrane's health: 3 when unstrained, ~7 at the largest physical strains
+               # here; the stiff-membrane growth of docs/method.md shows as 10^2..10^5
+               "max_trace_Gs": float(body_series(out, columns=("tensor_trace_max",))[1].max()),
+               "wall_seconds": wall,
                # a resumed run's wall time is that of its last part only
                "resumed": bool(summary.get("restarted_from"))}
         tag = f"ca{ca:g}_n{4 * n}" + ("" if reach == 5.0 else f"_reach{reach:g}")
         if unstable is not None:
             metrics[f"unstable_at_t_{tag}"] = unstable
+        if dim == 3:
+            metrics[f"max_trace_Gs_{tag}"] = row["max_trace_Gs"]
         if dim == 3:
             name, ref = reference_curve(data, ca)
             if ref is not None:
