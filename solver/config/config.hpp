@@ -48,6 +48,9 @@ struct OutputConfig {
 struct StabilityConfig {
     real max_cfl = 2.0;      ///< a run whose CFL exceeds this is declared unstable
     real max_velocity = 1e6; ///< |u| above this [m/s] is declared a blow-up
+    /// tr of a body's transported tensor (B of a solid, Gs of a membrane; 3 unstrained)
+    /// above which the run is declared unstable (checked at each diagnostics step)
+    real max_tensor_trace = 100;
 };
 
 struct Config {

@@ -243,6 +243,15 @@ void Simulation::check_stability(const TimeStepChoice& choice) {
     else if (choice.dt < 1e-14 * cfg_.time.end_time &&
              s.time < cfg_.time.end_time * (1 - 1e-12)) // not the round-off left at the end
         why = fmt::format("the time step collapsed to {:.3e} s", choice.dt);
+    // A membrane or solid whose strain tensor runs away (a principal stretch of ~10 at the
+    // default bound) has left any physical regime well before the velocity shows it: the
+    // stiff-membrane growth of Gs (docs/method.md) reached tr Gs 1e5 with |v| only 4x the
+    // wall speed. Measured at the diagnostics steps (bodies.csv), so checked there.
+    for (const auto& b : last_bodies_)
+        if (why.empty() && !(b.tensor_trace_max <= cfg_.stability.max_tensor_trace))
+            why = fmt::format("body '{}': max tr of its strain tensor = {:.3e} (bodies.csv "
+                              "tensor_trace_max) exceeds stability.max_tensor_trace = {:.3g}",
+                              b.name, b.tensor_trace_max, cfg_.stability.max_tensor_trace);
     if (why.empty()) return;
     const std::string where = locate_worst_velocity(*dec_, s);
     throw RunError(fmt::format("UNSTABLE at step {}, t = {:.6e} s: {}; {}. The last good "

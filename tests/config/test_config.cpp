@@ -92,6 +92,7 @@ checkpoint_every = 3
 [stability]
 max_cfl = 1.5
 max_velocity = 100.0
+max_tensor_trace = 50.0
 
 [parallel]
 ranks = [2, 1, 1]
@@ -132,6 +133,7 @@ TEST(Config, FullCaseReadsEveryKey) {
     EXPECT_FALSE(c.output.fields);
     EXPECT_EQ(c.output.checkpoint_every, 3);
     EXPECT_DOUBLE_EQ(c.stability.max_cfl, 1.5);
+    EXPECT_DOUBLE_EQ(c.stability.max_tensor_trace, 50.0);
     EXPECT_EQ(c.ranks, (Int3{2, 1, 1}));
 }
 
@@ -217,6 +219,11 @@ TEST(Config, OutOfRangeValueIsNamed) {
                     case_from(base_case, {{"time.viscous", "\"implicit\""}});
                 }),
                 HasSubstr("time.viscous"));
+    // An unstrained tensor has trace 3: a bound at or below it would stop every run.
+    EXPECT_THAT(input_error_of([] {
+                    case_from(base_case, {{"stability.max_tensor_trace", "3"}});
+                }),
+                HasSubstr("stability.max_tensor_trace"));
 }
 
 TEST(Config, MissingRequiredKeyIsNamed) {

@@ -7,7 +7,10 @@ step and the place (UNSTABLE ... step ... x = (...)), and writes no NaN into the
     surface velocity over the default reach blows up (measured at t = 0.34, whatever dt;
     docs/method.md) and the message names the body and the remedy; with
     body.surface_velocity_reach = 1.5 the same capsule runs past that time with max tr Gs
-    at its unstrained 3 (the default run reached 3.3 before blowing up)."""
+    at its unstrained 3 (the default run reached 3.3 before blowing up);
+(4) a membrane whose strain tensor passes stability.max_tensor_trace stops at the first
+    diagnostics step over it, naming the body and the key (the velocity does not show a
+    runaway Gs: docs/verification.md, d/32 Ca 0.0125)."""
 import csv
 import glob
 import os
@@ -54,3 +57,19 @@ t_end = float(rows[-1]["time"])
 trace = max(float(r["tensor_trace_max"]) for r in rows)
 check(abs(t_end - 0.5) < 1e-9 and trace <= 3.01,
       f"stiff membrane, reach 1.5: reached t = {t_end:.3f}, max tr Gs {trace:.4f}")
+
+# (4) a bound on tr Gs the capsule passes (it stretches from 3 towards ~3.5 by t = 0.5).
+out = os.path.join(args.output, "tensor_trace")
+coarse = ["grid.cells=[32,32,1]", "grid.length=[8.0,8.0,0.25]", "grid.origin=[-4.0,-4.0,-0.125]",
+          "time.end_time=0.5", "output.fields_interval=1.0"]
+proc = run(args, "capsule_shear_2d", out, sets=coarse + ["stability.max_tensor_trace=3.1"],
+           expect=3)
+check("UNSTABLE" in proc.stderr and "'capsule'" in proc.stderr and
+      "stability.max_tensor_trace = 3.1" in proc.stderr,
+      f"tensor bound: message names the body and the key: {proc.stderr.strip()[:240]}")
+with open(os.path.join(out, "bodies.csv")) as f:
+    rows = list(csv.DictReader(f))
+traces = [float(r["tensor_trace_max"]) for r in rows]
+check(traces[-1] > 3.1 and all(t <= 3.1 for t in traces[:-1]) and float(rows[-1]["time"]) < 0.5,
+      f"tensor bound: stopped before the end, at the first diagnostics step over it "
+      f"(t = {rows[-1]['time']}, {traces[-3:]})")

@@ -7,7 +7,8 @@ shares with the fluid (docs/method.md, Solids: extension of B).
     Taylor deformation D ~ 0.1 is a mean stretch of ~1.1;
 (2) with the extension off (extension_threshold = 0: B carried with the mixed velocity
     gradient of the cut cells, the transport before the extension) the same run exceeds
-    that bound, i.e. the check above can fail;
+    that bound, i.e. the check above can fail; tr B runs away and the run stops UNSTABLE
+    on stability.max_tensor_trace (100) before t = 2, naming the particle;
 (3) the particle's volume is kept to 1e-10 relative;
 (4) 1, 2 and 4 ranks agree to 1e-10 relative at t = 1 (every checkpoint dataset, B where
     phi > 0), and a wider patch (margin 6) gives the same result bit for bit: without the
@@ -44,12 +45,14 @@ drift = abs(b["volume"][-1] - b["volume"][0]) / b["volume"][0]
 check(drift < 1e-10, f"volume drift {drift:.1e}")
 
 off = os.path.join(args.output, "no_extension")
-run(args, "particle_poiseuille", off,
-    sets=grid + ["time.end_time=2.0", "body[0].extension_threshold=0.0"])
+proc = run(args, "particle_poiseuille", off,
+           sets=grid + ["time.end_time=2.0", "body[0].extension_threshold=0.0"], expect=3)
 c = bodies_csv(off)
 check(c["tensor_trace_max"].max() > 4.0,
       f"without the extension: max tr B = {c['tensor_trace_max'].max():.1f} > 4 (the bound "
       "can fail)")
+check("'particle'" in proc.stderr and "stability.max_tensor_trace" in proc.stderr,
+      f"without the extension: stopped on the tensor bound at t = {c['time'][-1]:.3f}")
 
 
 
