@@ -146,14 +146,14 @@ def capsule_3d_analysis(prob, metrics, table):
     s = prob["series"]
     row = {"problem": "capsule_3d", "error_measure": prob["error"]}
     for key, rows in s.items():
-        if key.startswith("efsi 1 rank"):
+        if key.startswith("efsi, Ca"):
             ca = rows[0]["Ca"]
             for r in rows:
                 metrics[f"capsule_3d_error_ca{ca:g}_n{4 * r['n']}"] = r["error"]
-    one2 = s.get("efsi 1 rank, Ca 0.2", [])
+    one2 = s.get("efsi, Ca 0.2", [])
     two2 = s.get("efsi 2 ranks, Ca 0.2", [])
     if one2 and two2:
-        own = [r for r in one2 if r.get("source") == "run here"]
+        own = [r for r in one2 if r.get("source") == "run here" and r.get("ranks", 1) == 1]
         sp = speedup_2ranks(own, two2, "n") if own else None
         if sp:
             row["speedup_2ranks"] = sp
@@ -161,8 +161,9 @@ def capsule_3d_analysis(prob, metrics, table):
             metrics["speedup_2ranks_capsule_3d_solver_time"] = sp["ratio_solver"]
     fe_key = next(k for k in s if k.startswith("FE"))
     fe = s[fe_key][0]
-    cpp05 = [r for r in s.get(f"efsi 1 rank, Ca {FE_3D_README['Ca']:g}", [])
-             if r.get("error_at_fe_times")]
+    # like for like with the FE run (1 process): efsi runs on 1 rank only
+    cpp05 = [r for r in s.get(f"efsi, Ca {FE_3D_README['Ca']:g}", [])
+             if r.get("error_at_fe_times") and r.get("ranks", 1) == 1]
     row["fe_error_at_fe_times"] = fe["error_at_fe_times"]
     if cpp05:
         cp = [(r["solver_seconds"], r["error_at_fe_times"]) for r in cpp05]
@@ -181,8 +182,8 @@ def capsule_3d_analysis(prob, metrics, table):
             else:
                 row["equal_error_solver_time"] = {"overlap": False}
     else:
-        row["note"] = ("no completed efsi 3D run at Ca 0.05 yet: no like-for-like comparison "
-                       "with the FE run")
+        row["note"] = ("no completed 1-rank efsi 3D run at Ca 0.05 yet: no like-for-like "
+                       "comparison with the FE run")
     table.append(row)
 
 
@@ -256,7 +257,7 @@ def plot(ctx, problems, table):
             style = next((v for k, v in styles.items() if k in label), ("k", "x-"))
             if "automatic" in label:
                 style = styles["automatic"]
-            if name == "capsule_3d" and label.startswith("efsi 1 rank"):
+            if name == "capsule_3d" and label.startswith("efsi, Ca"):
                 ca_colours = {"0.2": "C0", "0.1": "C2", "0.05": "C4", "0.025": "C5",
                               "0.0125": "C6"}
                 style = (ca_colours.get(label.split("Ca ")[-1], "k"), "o-")
@@ -264,7 +265,10 @@ def plot(ctx, problems, table):
             ax.loglog(t, e, style[1], color=style[0], mfc="none", label=label)
             res_key = "n" if "n" in rows[0] else "N"
             for r, (tt, ee) in zip([r for r in rows if r.get(tkey) and r.get(errkey)], p):
-                ax.annotate(str(r[res_key]), (tt, ee), fontsize=6, xytext=(3, 3),
+                note = str(r[res_key])
+                if name == "capsule_3d" and label.startswith("efsi, Ca"):
+                    note += f" ({r.get('ranks', 1)} rank{'s' if r.get('ranks', 1) > 1 else ''})"
+                ax.annotate(note, (tt, ee), fontsize=6, xytext=(3, 3),
                             textcoords="offset points")
         if targets.get(name):
             ax.axhline(targets[name], color="0.5", lw=0.6, ls=":")

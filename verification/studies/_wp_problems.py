@@ -302,7 +302,9 @@ def capsule_3d(ctx, cfg):
                 "reference": name, "t_end": float(t[-1])}
 
     series, skipped = {}, []
-    # cached runs of the capsule_shear study (1 rank; their own timer)
+    # cached runs of the capsule_shear study (their own timer; d/16 ran on 1 rank, d/32 on
+    # EFSI_VERIFY_RANKS: every row keeps its rank count). Series "efsi, Ca x" holds them and
+    # the d/8 1-rank runs made here; "efsi 2 ranks, Ca 0.2" the d/8 2-rank runs.
     for run in sorted(cache.glob("3d_n*_ca*_t2")):
         # the neo-Hookean runs at the default width only (not the Skalak or width sweeps)
         key = re.fullmatch(r"3d_n(\d+)_ca([0-9.]+)_t2", run.name)
@@ -325,7 +327,7 @@ def capsule_3d(ctx, cfg):
             continue
         m.update(n=n, Ca=ca, solver_seconds=s["wall_seconds"], wall_seconds=None,
                  ranks=s.get("ranks", 1), source=str(run.relative_to(ctx.repo)))
-        series.setdefault(f"efsi 1 rank, Ca {ca:g}", []).append(m)
+        series.setdefault(f"efsi, Ca {ca:g}", []).append(m)
     # d/8 runs made here (32^3, Ca 0.2, to t = 2): cheap, timed on 1 and 2 ranks
     for n in cfg["run_n"]:
         for ranks in cfg["ranks"]:
@@ -345,7 +347,7 @@ def capsule_3d(ctx, cfg):
                 return m
             rec = timed(ctx, efsi_cmd(ctx, ctx.repo / "cases" / "capsule_shear", out, sets),
                         ranks, read, repeat=False)
-            key = f"efsi {ranks} rank{'s' if ranks > 1 else ''}, Ca {ca:g}"
+            key = f"efsi, Ca {ca:g}" if ranks == 1 else f"efsi {ranks} ranks, Ca {ca:g}"
             series.setdefault(key, []).append(rec)
     for rows in series.values():
         rows.sort(key=lambda r: r["n"])

@@ -278,8 +278,12 @@ def run(ctx):
         out = run_one(ctx, 3, n, ca, t_end, skalak_c=c, reach=reach)
         t, d, th, vol = series(out)
         lin = skalak_linear_theory(ca, c)
-        row = {"n": n, "Ca": ca, "C": c, "surface_velocity_reach": reach, "D_t1": float(np.interp(1.0, t, d)),
-               "D_end": float(d[-1]), "D_linear_theory": lin,
+        unstable = stopped_at(out)
+        row = {"n": n, "Ca": ca, "C": c, "surface_velocity_reach": reach,
+               "D_t1": at_or_nan(1.0, t, d), "D_end": float(d[-1]), "t_end": float(t[-1]),
+               "stopped": "completed" if unstable is None else f"UNSTABLE at t = {unstable:.4g}",
+               "max_trace_Gs": float(body_series(out, columns=("tensor_trace_max",))[1].max()),
+               "D_linear_theory": lin,
                "D_end_over_linear": float(d[-1] / lin),
                "inclination_end_over_pi": float(th[-1]),
                "volume_drift": float(abs(vol[-1] - vol[0]) / vol[0]),
@@ -288,8 +292,11 @@ def run(ctx):
         if ref is not None:
             row["max_abs_D_minus_pozrikidis1995_ca0.0125"] = max_abs_diff(t, d, ref)
         tag = f"skalak_C{c:g}_ca{ca:g}_n{4 * n}"
+        if unstable is not None:
+            metrics[f"unstable_at_t_{tag}"] = unstable
         metrics[f"D_end_{tag}"] = row["D_end"]
-        metrics[f"D_end_over_linear_theory_{tag}"] = row["D_end_over_linear"]
+        if unstable is None:  # D at the stop of an UNSTABLE run is no steady value
+            metrics[f"D_end_over_linear_theory_{tag}"] = row["D_end_over_linear"]
         metrics[f"volume_drift_{tag}"] = row["volume_drift"]
         skalak_rows.append(row)
         runs_skalak.append((c, t, d))
@@ -346,12 +353,18 @@ def width_sweep(ctx, data: Path, t_end: float, cached_only: bool, skipped: list,
             t, d, th, vol = series(out)
             eps = w * 2.0 / n  # in units of the radius a = 1
             err = max_abs_diff(t, d, ref)
+            unstable = stopped_at(out)
             row = {"n": n, "w": w, "eps_over_a": eps, "Ca": ca,
-                   "D_t0.5": float(np.interp(0.5, t, d)), "D_t1": float(np.interp(1.0, t, d)),
-                   "D_end": float(d[-1]), "max_abs_D_error": err,
+                   "D_t0.5": at_or_nan(0.5, t, d), "D_t1": at_or_nan(1.0, t, d),
+                   "D_end": float(d[-1]), "t_end": float(t[-1]),
+                   "stopped": "completed" if unstable is None else f"UNSTABLE at t = {unstable:.4g}",
+                   "max_trace_Gs": float(body_series(out, columns=("tensor_trace_max",))[1].max()),
+                   "max_abs_D_error": err,
                    "volume_drift": float(abs(vol[-1] - vol[0]) / vol[0]),
                    "wall_seconds": json.loads((out / "summary.json").read_text())["wall_seconds"]}
             tag = f"ca{ca:g}_n{4 * n}_w{w:g}"
+            if unstable is not None:
+                metrics[f"unstable_at_t_{tag}"] = unstable
             metrics[f"max_abs_D_error_{tag}"] = err
             metrics[f"volume_drift_{tag}"] = row["volume_drift"]
             rows.append(row)
@@ -364,8 +377,9 @@ def width_sweep(ctx, data: Path, t_end: float, cached_only: bool, skipped: list,
             if len(fam) < 3 or any(abs(fam[i + 1][0] / fam[i][0] - 2) > 1e-9 for i in range(2)):
                 continue
             for tq in (0.5, 1.0, t_end):
-                v = [float(np.interp(tq, c[3], c[4])) for c in fam[:3]]
-                if (v[2] - v[1]) * (v[1] - v[0]) <= 0:
+                v = [at_or_nan(tq, c[3], c[4]) for c in fam[:3]]
+                # a run that stopped before tq (UNSTABLE) gives no value there
+                if not np.all(np.isfinite(v)) or (v[2] - v[1]) * (v[1] - v[0]) <= 0:
                     continue
                 p = float(np.log2((v[2] - v[1]) / (v[1] - v[0])))
                 d0 = v[0] - (v[1] - v[0]) / (2 ** p - 1)
@@ -381,8 +395,9 @@ def width_sweep(ctx, data: Path, t_end: float, cached_only: bool, skipped: list,
             for b in curves:
                 if abs(a[0] - b[0]) < 1e-12 and b[1] == 2 * a[1]:
                     for tq in (0.5, 1.0, t_end):
-                        metrics[f"D_h_effect_at_fixed_eps_ca{ca:g}_eps{a[0]:g}_t{tq:g}"] = float(
-                            np.interp(tq, b[3], b[4]) - np.interp(tq, a[3], a[4]))
+                        diff = at_or_nan(tq, b[3], b[4]) - at_or_nan(tq, a[3], a[4])
+                        if np.isfinite(diff):
+                            metrics[f"D_h_effect_at_fixed_eps_ca{ca:g}_eps{a[0]:g}_t{tq:g}"] = diff
         if curves:
             png = ctx.outdir / f"capsule_width_ca{ca:g}.png"
             fig, ax = plt.subplots(1, 2, figsize=(11, 4.3))
@@ -392,7 +407,8 @@ def width_sweep(ctx, data: Path, t_end: float, cached_only: bool, skipped: list,
             for eps, n, w, t, d in sorted(curves, key=lambda c: (-c[0], c[1])):
                 ax[0].plot(t, d, "-" if w == 1.0 else "--",
                            label=f"d/{n}, w = {w:g} (eps = {eps:g} a)")
-                ax[1].plot(eps, float(np.interp(1.0, t, d)), "o" if w == 1.0 else "s")
+                if t[-1] >= 1.0:
+                    ax[1].plot(eps, float(np.interp(1.0, t, d)), "o" if w == 1.0 else "s")
             ax[1].axhline(float(np.interp(1.0, ref[:, 0], ref[:, 1])), color="k", ls=":",
                           label=f"{name}, t = 1")
             for k in [k for k in metrics if k.startswith(f"D_eps_extrapolated_ca{ca:g}_n")
@@ -413,4 +429,9 @@ def width_sweep(ctx, data: Path, t_end: float, cached_only: bool, skipped: list,
 
 
 def cached_w(ctx, n: int, ca: float, t_end: float, w: float) -> bool:
-    return completed(run_dir(ctx, 3, n, ca, t_end, None, w))
+    return completed(run_dir(ctx, 3, n, ca, t_end, None, w), allow_unstable=True)
+
+
+def at_or_nan(tq: float, t, d) -> float:
+    """D at time tq, NaN when the run stopped (UNSTABLE) before tq."""
+    return float(np.interp(tq, t, d)) if t[-1] >= tq - 1e-9 else float("nan")

@@ -4,6 +4,9 @@ import subprocess
 import sys
 from pathlib import Path
 
+import numpy as np
+import pytest
+
 REPO = Path(__file__).resolve().parents[2]
 sys.path.insert(0, str(REPO / "verification"))
 
@@ -129,3 +132,45 @@ def test_full_tier_results_are_stored_and_published_with_a_status(tmp_path, monk
     assert "capsule_shear" in page.split("not yet:")[1].split("\n")[0]
     assert "commit abcdef0123" in page and "| order_u_L2 | 1.99 |" in page
     assert page.index("## Status") < page.index("## Headline figures")
+
+
+def _fake_capsule_run(out: Path, d_of_t, t_stop: float, status: str):
+    out.mkdir(parents=True)
+    t = np.linspace(0.0, t_stop, int(round(t_stop / 0.05)) + 1)
+    lines = ["step,time,body,taylor_deformation,inclination_over_pi,volume,tensor_trace_max"]
+    lines += [f"{i},{ti!r},capsule,{d_of_t(ti)!r},0.25,4.2,3.0" for i, ti in enumerate(t)]
+    (out / "bodies.csv").write_text("\n".join(lines) + "\n")
+    (out / "summary.json").write_text(json.dumps({"status": status, "time": float(t[-1]),
+                                                  "wall_seconds": 1.0}))
+
+
+def test_width_sweep_reports_a_run_that_stopped_unstable_without_values_past_its_stop(
+        tmp_path, monkeypatch):
+    """Three widths at ratio 2 on one grid: D = D0 + c eps^2 t gives order 2 in eps at
+    t = 0.5 and 1. The widest run stops UNSTABLE at t = 1.4, so nothing is extrapolated at
+    t = 2 (its last D must not stand in for D(2)), and its row says where it stopped."""
+
+    sys.path.insert(0, str(REPO / "verification" / "studies"))
+    import capsule_shear as cs
+
+    monkeypatch.setattr(cs, "WIDTH_SWEEP", {"full": [(0.05, [(8, 2.0), (8, 1.0), (8, 0.5)])]})
+
+    class Ctx:
+        tier, outdir, repo, long_ranks = "full", tmp_path, REPO, 1
+
+    for w, t_stop, status in ((2.0, 1.4, "unstable"), (1.0, 2.0, "completed"),
+                              (0.5, 2.0, "completed")):
+        eps = w * 2.0 / 8
+        _fake_capsule_run(cs.run_dir(Ctx, 3, 8, 0.05, 2.0, None, w),
+                          lambda t, e=eps: 0.2 + 0.1 * e * e * t, t_stop, status)
+    data = REPO.parent / "shared" / "data" / "capsule_shear"
+    skipped, metrics, figures = [], {}, []
+    rows = cs.width_sweep(Ctx, data, 2.0, True, skipped, metrics, figures)
+    assert skipped == []  # an UNSTABLE stop is a cached result, not a missing run
+    wide = next(r for r in rows if r["w"] == 2.0)
+    assert wide["stopped"] == "UNSTABLE at t = 1.4" and wide["t_end"] == 1.4
+    assert metrics["unstable_at_t_ca0.05_n32_w2"] == 1.4
+    for tq in ("0.5", "1"):
+        assert metrics[f"D_eps_order_ca0.05_n32_t{tq}"] == pytest.approx(2.0, rel=1e-9)
+        assert metrics[f"D_eps_extrapolated_ca0.05_n32_t{tq}"] == pytest.approx(0.2, abs=1e-12)
+    assert "D_eps_order_ca0.05_n32_t2" not in metrics

@@ -74,3 +74,32 @@ def test_p2_evaluation_is_exact_for_quadratics():
     g = lambda x: x ** 3                         # noqa: E731
     assert np.max(np.abs(wpp.p2_eval(y, g(y), x) - g(x))) > 1e-4
     assert math.isclose(float(wpp.p2_eval(y, g(y), [0.25])[0]), 0.25 ** 3)
+
+
+def test_capsule_3d_compares_one_rank_runs_with_the_fe_run():
+    """The FE 3D run used 1 process: its equal-error time is set against the 1-rank efsi
+    runs only, whatever faster 2-rank rows the series also holds."""
+    fe = {"n": 8, "Ca": 0.05, "error_at_fe_times": 1e-2, "error": None,
+          "solver_seconds": 1000.0}
+    rows = [{"n": 8, "Ca": 0.05, "error": 3e-2, "error_at_fe_times": 2e-2,
+             "solver_seconds": 10.0, "ranks": 1},
+            {"n": 16, "Ca": 0.05, "error": 6e-3, "error_at_fe_times": 5e-3,
+             "solver_seconds": 100.0, "ranks": 1},
+            # a 2-rank row that is both faster and more accurate must not be used
+            {"n": 32, "Ca": 0.05, "error": 1e-3, "error_at_fe_times": 1e-3,
+             "solver_seconds": 1.0, "ranks": 2}]
+    prob = {"series": {"efsi, Ca 0.05": rows, "FE 3D (README) 1 rank, Ca 0.05": [fe]},
+            "error": "max |D - D_ref|"}
+    metrics, table = {}, []
+    wp.capsule_3d_analysis(prob, metrics, table)
+    # log-log between (10 s, 2e-2) and (100 s, 5e-3) at 1e-2: t = 10 * 10^(log(2)/log(4))
+    t_cpp = 10.0 * 10 ** (math.log(2.0) / math.log(4.0))
+    assert metrics["speedup_vs_fe_at_equal_error_capsule_3d_solver_time"] == \
+        pytest.approx(1000.0 / t_cpp, rel=1e-12)
+    assert metrics["capsule_3d_error_ca0.05_n128"] == 1e-3
+    only_two = {"series": {"efsi, Ca 0.05": rows[2:], "FE 3D (README) 1 rank, Ca 0.05": [fe]},
+                "error": "max |D - D_ref|"}
+    metrics, table = {}, []
+    wp.capsule_3d_analysis(only_two, metrics, table)
+    assert not any(k.startswith("speedup_vs_fe") for k in metrics)
+    assert "1-rank" in table[0]["note"]
