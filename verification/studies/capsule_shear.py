@@ -104,6 +104,28 @@ def run_one(ctx, dim: int, n: int, ca: float, t_end: float, skalak_c: float | No
                       allow_unstable=True)
 
 
+# The solver's default stability.max_tensor_trace: a run recorded before that bound existed
+# (session 10) may have "completed" with tr Gs far beyond it; its rows say from when.
+MAX_TENSOR_TRACE = 100.0
+
+
+def stop_note(out: Path) -> tuple[str, float | None, float]:
+    """How the run ended ("completed" / "UNSTABLE at t = ..." / "completed, but tr Gs > 100
+    from t = ...: invalid after that"), the time after which it is not valid (None: valid to
+    its end) and its largest tr Gs."""
+    unstable = stopped_at(out)
+    t, tr = body_series(out, columns=("tensor_trace_max",))
+    if unstable is not None:
+        return f"UNSTABLE at t = {unstable:.4g}", unstable, float(tr.max())
+    over = np.nonzero(tr > MAX_TENSOR_TRACE)[0]
+    if len(over):
+        t_bad = float(t[over[0]])
+        return (f"completed, but tr Gs > {MAX_TENSOR_TRACE:g} (the default "
+                f"stability.max_tensor_trace) from t = {t_bad:.3g}: invalid after that",
+                t_bad, float(tr.max()))
+    return "completed", None, float(tr.max())
+
+
 def stopped_at(out: Path) -> float | None:
     """The time at which the run stopped UNSTABLE, None when it completed."""
     s = json.loads((out / "summary.json").read_text())
@@ -203,20 +225,21 @@ def run(ctx):
         wall = summary["wall_seconds"]
         drift = float(abs(vol[-1] - vol[0]) / vol[0])
         unstable = stopped_at(out)
+        # the membrane's health: 3 when unstrained, ~7 at the largest physical strains here;
+        # the stiff-membrane growth of docs/method.md shows as 10^2..10^5
+        stopped, invalid_after, max_tr = stop_note(out)
         row = {"dim": dim, "n": n, "Ca": ca, "surface_velocity_reach": reach,
                "D_t1": float(np.interp(1.0, t, d)) if t[-1] >= 1.0 else float("nan"),
-               "D_end": float(d[-1]), "t_end": float(t[-1]),
-               "stopped": "completed" if unstable is None else f"UNSTABLE at t = {unstable:.4g}",
-               "volume_drift": drift,
-               # the membrane's health: 3 when unstrained, ~7 at the largest physical strains
-               # here; the stiff-membrane growth of docs/method.md shows as 10^2..10^5
-               "max_trace_Gs": float(body_series(out, columns=("tensor_trace_max",))[1].max()),
+               "D_end": float(d[-1]), "t_end": float(t[-1]), "stopped": stopped,
+               "volume_drift": drift, "max_trace_Gs": max_tr,
                "wall_seconds": wall,
                # a resumed run's wall time is that of its last part only
                "resumed": bool(summary.get("restarted_from"))}
         tag = f"ca{ca:g}_n{4 * n}" + ("" if reach == 5.0 else f"_reach{reach:g}")
         if unstable is not None:
             metrics[f"unstable_at_t_{tag}"] = unstable
+        elif invalid_after is not None:
+            metrics[f"trace_bound_exceeded_at_t_{tag}"] = invalid_after
         if dim == 3:
             metrics[f"max_trace_Gs_{tag}"] = row["max_trace_Gs"]
         if dim == 3:
@@ -279,10 +302,10 @@ def run(ctx):
         t, d, th, vol = series(out)
         lin = skalak_linear_theory(ca, c)
         unstable = stopped_at(out)
+        stopped, _, max_tr = stop_note(out)
         row = {"n": n, "Ca": ca, "C": c, "surface_velocity_reach": reach,
                "D_t1": at_or_nan(1.0, t, d), "D_end": float(d[-1]), "t_end": float(t[-1]),
-               "stopped": "completed" if unstable is None else f"UNSTABLE at t = {unstable:.4g}",
-               "max_trace_Gs": float(body_series(out, columns=("tensor_trace_max",))[1].max()),
+               "stopped": stopped, "max_trace_Gs": max_tr,
                "D_linear_theory": lin,
                "D_end_over_linear": float(d[-1] / lin),
                "inclination_end_over_pi": float(th[-1]),
@@ -354,11 +377,11 @@ def width_sweep(ctx, data: Path, t_end: float, cached_only: bool, skipped: list,
             eps = w * 2.0 / n  # in units of the radius a = 1
             err = max_abs_diff(t, d, ref)
             unstable = stopped_at(out)
+            stopped, _, max_tr = stop_note(out)
             row = {"n": n, "w": w, "eps_over_a": eps, "Ca": ca,
                    "D_t0.5": at_or_nan(0.5, t, d), "D_t1": at_or_nan(1.0, t, d),
                    "D_end": float(d[-1]), "t_end": float(t[-1]),
-                   "stopped": "completed" if unstable is None else f"UNSTABLE at t = {unstable:.4g}",
-                   "max_trace_Gs": float(body_series(out, columns=("tensor_trace_max",))[1].max()),
+                   "stopped": stopped, "max_trace_Gs": max_tr,
                    "max_abs_D_error": err,
                    "volume_drift": float(abs(vol[-1] - vol[0]) / vol[0]),
                    "wall_seconds": json.loads((out / "summary.json").read_text())["wall_seconds"]}

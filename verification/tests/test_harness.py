@@ -174,3 +174,36 @@ def test_width_sweep_reports_a_run_that_stopped_unstable_without_values_past_its
         assert metrics[f"D_eps_order_ca0.05_n32_t{tq}"] == pytest.approx(2.0, rel=1e-9)
         assert metrics[f"D_eps_extrapolated_ca0.05_n32_t{tq}"] == pytest.approx(0.2, abs=1e-12)
     assert "D_eps_order_ca0.05_n32_t2" not in metrics
+
+
+def test_a_completed_run_past_the_tensor_bound_is_flagged_from_where_it_crossed(tmp_path):
+    """Runs recorded before stability.max_tensor_trace existed could "complete" with tr Gs in
+    the 10^5: the row must say from when the run is not valid."""
+    sys.path.insert(0, str(REPO / "verification" / "studies"))
+    import capsule_shear as cs
+
+    out = tmp_path / "run"
+    _fake_capsule_run(out, lambda t: 0.1 * t, 2.0, "completed")
+    lines = (out / "bodies.csv").read_text().splitlines()
+    # tr Gs 3 until t = 1.2, then 3 * 10^(t - 1.2) * 60: over 100 from the first row past 1.2
+    body = []
+    for line in lines[1:]:
+        f = line.split(",")
+        t = float(f[1])
+        f[-1] = repr(3.0 if t <= 1.2 + 1e-12 else 180.0 * 10 ** (t - 1.2))
+        body.append(",".join(f))
+    (out / "bodies.csv").write_text("\n".join([lines[0]] + body) + "\n")
+    note, after, max_tr = cs.stop_note(out)
+    assert after == pytest.approx(1.25) and max_tr == pytest.approx(180.0 * 10 ** 0.8)
+    assert note.startswith("completed, but tr Gs > 100") and "invalid after" in note
+    _fake_capsule_run(tmp_path / "ok", lambda t: 0.1 * t, 2.0, "completed")
+    assert cs.stop_note(tmp_path / "ok") == ("completed", None, 3.0)
+
+
+def test_the_studys_tensor_bound_is_the_solvers_default():
+    sys.path.insert(0, str(REPO / "verification" / "studies"))
+    import capsule_shear as cs
+
+    ref = (REPO / "docs" / "case-reference.md").read_text()
+    row = next(line for line in ref.splitlines() if "`stability.max_tensor_trace`" in line)
+    assert float(row.split("|")[4]) == cs.MAX_TENSOR_TRACE
