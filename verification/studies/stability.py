@@ -20,7 +20,13 @@ Long run: the 3D capsule (cases/capsule_shear, Ca 0.2; d/8 in quick, d/16 in ful
 the automatic dt to shear-rate x t = 10, a steady tank-treading state; its volume and area
 drift over the run (capsule_volume_drift_t10, capsule_area_drift_t10; the area is the
 integral of |grad phi| and changes physically as the membrane stretches, so its drift is
-reported from t = 2 on, when D has settled) and D at the end.
+reported from t = 2 on, when D has settled) and D at the end. In the full tier it is run
+twice: with the default reach of the surface velocity (5 cells) and with 1.5, the remedy
+docs/method.md gives for the growth of Gs. A long run that stops UNSTABLE (for instance on
+stability.max_tensor_trace) is a result: its row says where it stopped, its drift is the
+drift up to there (capsule_long_run_unstable_at_t), and capsule_volume_drift_t10 is taken
+from a run with the default reach only if it reached t = 10 (otherwise from the reach-1.5 run,
+named so: capsule_volume_drift_t10_reach1.5).
 
 Capsule Ca values: at 0.002 the membrane's own limit sets the automatic dt and k probes it;
 at 0.05 and 0.2 (box 4d, wall speed 4 a x shear rate) the VOF face Courant limit binds first
@@ -45,9 +51,10 @@ TIERS = {
     "ci": {"n": 8, "cas": [0.2], "ks": [0.5, 1.0, 2.0], "t_end": 0.25, "res": [],
            "grids": [], "long": None},
     "quick": {"n": 16, "cas": [0.002, 0.05, 0.2], "ks": [0.5, 1.0, 1.5, 2.0, 4.0, 8.0],
-              "t_end": 0.5, "res": [0.01, 1.0, 10.0], "grids": [8, 32], "long": (8, 10.0)},
+              "t_end": 0.5, "res": [0.01, 1.0, 10.0], "grids": [8, 32], "long": (8, 10.0, [5.0])},
     "full": {"n": 16, "cas": [0.002, 0.05, 0.2], "ks": [0.5, 1.0, 1.5, 2.0, 4.0, 6.0, 8.0],
-             "t_end": 2.0, "res": [0.01, 1.0, 10.0], "grids": [8, 32], "long": (16, 10.0)},
+             "t_end": 2.0, "res": [0.01, 1.0, 10.0], "grids": [8, 32],
+             "long": (16, 10.0, [5.0, 1.5])},
 }
 SLAB_SHEAR_MODULUS = 100.0
 COMMON = {"output.progress_every": "100000", "output.checkpoint_every": "0"}
@@ -65,30 +72,44 @@ def capsule_sets(n: int, ca: float, t_end: float, re: float | None = None) -> di
     return s
 
 
-def long_capsule(ctx, n: int, t_end: float, metrics: dict) -> dict:
-    """3D capsule (Ca 0.2) with the automatic dt to shear-rate x t = t_end; drift figures."""
+def long_capsule(ctx, n: int, t_end: float, reach: float, metrics: dict) -> tuple:
+    """3D capsule (Ca 0.2) with the automatic dt to shear-rate x t = t_end, Gs carried with
+    the surface velocity over ``reach`` cells; its drift figures. A run that stops UNSTABLE
+    is reported up to its stop."""
     cells = 4 * n
-    out = ctx.outdir / "runs" / f"capsule3d_n{cells}_t{t_end:g}"
+    r = "" if reach == 5.0 else f"_reach{reach:g}"
+    out = ctx.outdir / "runs" / f"capsule3d_n{cells}{r}_t{t_end:g}"
     sets = {"grid.cells": f"[{cells},{cells},{cells}]", "body[0].elastic_modulus": "5.0",
             "time.end_time": repr(t_end), "output.fields_interval": repr(t_end / 2),
             "output.checkpoint_every": "100", "output.progress_every": "100000"}
+    if reach != 5.0:
+        sets["body[0].surface_velocity_reach"] = repr(reach)
     summ = out / "summary.json"
-    cached_run(ctx, ctx.repo / "cases" / "capsule_shear", out, sets, ranks=ctx.long_ranks)
-    t, vol, area, dd = body_series(out, columns=("volume", "area", "taylor_deformation"))
+    cached_run(ctx, ctx.repo / "cases" / "capsule_shear", out, sets, t_end,
+               ranks=ctx.long_ranks, allow_unstable=True)
+    t, vol, area, dd, tr = body_series(out, columns=("volume", "area", "taylor_deformation",
+                                                     "tensor_trace_max"))
     s = json.loads(summ.read_text())
     late = t >= min(2.0, t[-1] / 2)  # short (test) runs: the second half
-    row = {"cells": cells, "t_end": float(t[-1]), "status": s["status"],
-           "volume_drift": float(np.max(np.abs(vol - vol[0])) / vol[0]),
+    row = {"cells": cells, "surface_velocity_reach": reach, "t_end": float(t[-1]),
+           "status": s["status"], "volume_drift": float(np.max(np.abs(vol - vol[0])) / vol[0]),
            "area_drift_after_t2": float((area[late].max() - area[late].min()) / area[late][0]),
            "D_end": float(dd[-1]), "D_min_after_t2": float(dd[late].min()),
-           "D_max_after_t2": float(dd[late].max()), "wall_seconds": s["wall_seconds"],
-           "steps": s["steps"]}
+           "D_max_after_t2": float(dd[late].max()), "max_trace_Gs": float(tr.max()),
+           "wall_seconds": s["wall_seconds"], "steps": s["steps"],
+           "resumed": bool(s.get("restarted_from")), "message": s.get("message")}
     row.update(nonfinite(out))
-    metrics["capsule_volume_drift_t10"] = row["volume_drift"]
-    metrics["capsule_area_drift_t10"] = row["area_drift_after_t2"]
-    metrics["capsule_D_t10"] = row["D_end"]
+    tag = "" if reach == 5.0 else f"_reach{reach:g}"
+    if s["status"] == "completed":
+        metrics[f"capsule_volume_drift_t{t_end:g}{tag}"] = row["volume_drift"]
+        metrics[f"capsule_area_drift_t{t_end:g}{tag}"] = row["area_drift_after_t2"]
+        metrics[f"capsule_D_t{t_end:g}{tag}"] = row["D_end"]
+    else:
+        metrics[f"capsule_long_run_unstable_at_t{tag}"] = row["t_end"]
+        metrics[f"capsule_volume_drift_to_stop{tag}"] = row["volume_drift"]
+    metrics[f"capsule_long_run_max_trace_Gs{tag}"] = row["max_trace_Gs"]
     metrics["capsule_long_run_cells"] = cells
-    return row, (t, dd, area / area[0], vol / vol[0])
+    return row, (t, dd, area / area[0], vol / vol[0], tr)
 
 
 def slab_sets(t_end: float) -> dict:
@@ -222,9 +243,13 @@ def run(ctx):
         margin_sweep(f"capsule_ca0.2_n{4 * n}", cap_case, capsule_sets(n, 0.2, t_end),
                      f"capsule_n{4 * n}")
 
-    long_row, long_series = (None, None)
+    long_rows, long_series = [], []
     if cfg["long"]:
-        long_row, long_series = long_capsule(ctx, *cfg["long"], metrics)
+        n_long, t_long, reaches = cfg["long"]
+        for reach in reaches:
+            row, ser = long_capsule(ctx, n_long, t_long, reach, metrics)
+            long_rows.append(row)
+            long_series.append((reach, ser))
 
     fixed = [r for r in table if r["k"] != "auto"]
     metrics["unstable_runs"] = sum(r["status"] != "completed" for r in fixed)
@@ -270,15 +295,22 @@ def run(ctx):
     plt.close(fig)
 
     figures = [str(png)]
-    if long_series is not None:
-        t, dd, area, vol = long_series
-        fig, ax = plt.subplots(1, 2, figsize=(10, 3.5))
-        ax[0].plot(t, dd)
-        ax[0].set(xlabel="shear rate x t", ylabel="D", title=f"3D capsule Ca 0.2, {long_row['cells']}^3")
-        ax[1].plot(t, area - 1, label="area / area(0) - 1")
-        ax[1].plot(t, vol - 1, label="volume / volume(0) - 1")
-        ax[1].set(xlabel="shear rate x t")
-        ax[1].legend(fontsize=8)
+    if long_series:
+        fig, ax = plt.subplots(1, 3, figsize=(14, 3.8))
+        for (reach, (t, dd, area, vol, tr)), row in zip(long_series, long_rows):
+            lab = f"surface velocity reach {reach:g}" + (
+                "" if row["status"] == "completed" else f" (UNSTABLE at t = {row['t_end']:.3g})")
+            line, = ax[0].plot(t, dd, label=lab)
+            ax[1].plot(t, area - 1, color=line.get_color(), label=f"area - 1, reach {reach:g}")
+            ax[1].plot(t, vol - 1, ":", color=line.get_color(),
+                       label=f"volume - 1, reach {reach:g}")
+            ax[2].semilogy(t, tr, color=line.get_color(), label=lab)
+        ax[0].set(xlabel="shear rate x t", ylabel="D",
+                  title=f"3D capsule Ca 0.2, {long_rows[0]['cells']}^3")
+        ax[1].set(xlabel="shear rate x t", ylabel="relative to t = 0")
+        ax[2].set(xlabel="shear rate x t", ylabel="max tr Gs (3: unstrained)")
+        for a in ax:
+            a.legend(fontsize=7)
         fig.tight_layout()
         png2 = ctx.outdir / "long_capsule.png"
         fig.savefig(png2, dpi=110)
@@ -289,8 +321,8 @@ def run(ctx):
             "nonfinite_in_fields", "nonfinite_in_checkpoint", "exit_code", "message"]
     tab = [{c: r.get(c) for c in cols} for r in table]
     tables = {"runs": tab}
-    if long_row is not None:
-        tables["long_capsule"] = [long_row]
+    if long_rows:
+        tables["long_capsule"] = long_rows
     return {"metrics": metrics, "tables": tables, "figures": figures,
             "notes": (f"Short runs (end time {t_end:g}); a margin flagged is_lower_bound means "
                       "the largest k tried still completed. Capsule Re sweep at Ca = 0.2 sets "

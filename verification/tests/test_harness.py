@@ -207,3 +207,44 @@ def test_the_studys_tensor_bound_is_the_solvers_default():
     ref = (REPO / "docs" / "case-reference.md").read_text()
     row = next(line for line in ref.splitlines() if "`stability.max_tensor_trace`" in line)
     assert float(row.split("|")[4]) == cs.MAX_TENSOR_TRACE
+
+
+def test_long_capsule_run_that_stops_unstable_is_reported_up_to_its_stop(tmp_path):
+    """stability's long 3D run: an UNSTABLE stop (e.g. on the tensor bound) gives the drift up
+    to the stop and where it stopped, never a capsule_volume_drift_t10."""
+    sys.path.insert(0, str(REPO / "verification" / "studies"))
+    import stability
+
+    class Ctx:
+        outdir, repo, long_ranks = tmp_path, REPO, 2
+
+        def __init__(self, t_stop, status):
+            self.t_stop, self.status, self.sets = t_stop, status, []
+
+        def run_efsi(self, case, out, sets=None, ranks=1, extra=None, check=True):
+            assert not check  # an UNSTABLE stop is allowed here
+            self.sets.append(dict(sets))
+            out.mkdir(parents=True, exist_ok=True)
+            t = np.linspace(0.0, self.t_stop, 11)
+            lines = ["step,time,body,volume,area,taylor_deformation,tensor_trace_max"]
+            lines += [f"{i},{ti!r},capsule,{4.0 + 1e-12 * i!r},{12.0 + 0.1 * ti!r},0.4,"
+                      f"{3.0 + ti!r}" for i, ti in enumerate(t)]
+            (out / "bodies.csv").write_text("\n".join(lines) + "\n")
+            (out / "summary.json").write_text(json.dumps({
+                "status": self.status, "time": self.t_stop, "wall_seconds": 1.0, "steps": 10,
+                "message": "UNSTABLE ..." if self.status == "unstable" else None}))
+            return {"status": self.status}
+
+    metrics = {}
+    ctx = Ctx(7.4, "unstable")
+    row, _ = stability.long_capsule(ctx, 16, 10.0, 5.0, metrics)
+    assert row["status"] == "unstable" and row["t_end"] == 7.4
+    assert "capsule_volume_drift_t10" not in metrics
+    assert metrics["capsule_long_run_unstable_at_t"] == 7.4
+    assert metrics["capsule_volume_drift_to_stop"] == pytest.approx(1e-11 / 4.0, rel=1e-3)
+    assert metrics["capsule_long_run_max_trace_Gs"] == pytest.approx(10.4)
+    ok = Ctx(10.0, "completed")
+    row, _ = stability.long_capsule(ok, 16, 10.0, 1.5, metrics)
+    assert ok.sets[0]["body[0].surface_velocity_reach"] == "1.5"
+    assert metrics["capsule_volume_drift_t10_reach1.5"] == pytest.approx(1e-11 / 4.0, rel=1e-3)
+    assert "capsule_long_run_unstable_at_t_reach1.5" not in metrics
