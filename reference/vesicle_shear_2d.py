@@ -444,12 +444,19 @@ def run(args, comm):
     record()
     maybe_write(0)
     every = max(1, n_steps // 20)
+    diverged = None
     for k in range(1, n_steps + 1):
         model.step()
         s = record()
         maybe_write(k)
         if not np.isfinite(s["D"]) or s["mean_stretch"] > 10:
-            raise RuntimeError(f"diverged at t = {model.t}: {s}")
+            # a result, not a crash: the summary says where; the caller sees exit code 3
+            diverged = model.t
+            say(f"DIVERGED at t = {model.t:.4g} (step {k}): mean stretch "
+                f"{s['mean_stretch']:.3g} > 10 or D not finite; band lambda in "
+                f"[{s['lambda_min_band']:.3g}, {s['lambda_max_band']:.3g}]")
+            rows.pop()  # the diverged state is not a solution
+            break
         if k % every == 0 or k == n_steps:
             say(f"t {model.t:6.3f}  D {s['D']:.4f}  theta/pi {s['theta_over_pi']:.4f}  "
                 f"area {s['area']:.5f}  lambda in [{s['lambda_min_band']:.3f}, "
@@ -462,13 +469,15 @@ def run(args, comm):
         probe.__exit__(None, None, None)
     wall = time.time() - t_wall
     summary = {"Ca": args.Ca, "Re": args.Re, "refine": args.refine, "h": model.h,
-               "h_over_d": model.h / 2, "eps": model.eps, "dt": model.dt, "steps": n_steps,
+               "h_over_d": model.h / 2, "eps": model.eps, "dt": model.dt, "steps": len(rows) - 1,
                "cells": n_cells, "ranks": comm.size, "wall_seconds": wall,
                "D_final": rows[-1]["D"], "theta_over_pi_final": rows[-1]["theta_over_pi"],
-               "area_drift": rows[-1]["area"] / rows[0]["area"] - 1, "t_end": model.t,
+               "area_drift": rows[-1]["area"] / rows[0]["area"] - 1, "t_end": rows[-1]["t"],
                "lambda_min_band": min(r["lambda_min_band"] for r in rows),
                "lambda_max_band": max(r["lambda_max_band"] for r in rows),
-               "Lx": args.Lx, "Ly": args.Ly}
+               "Lx": args.Lx, "Ly": args.Ly,
+               "status": "completed" if diverged is None else "diverged",
+               "diverged_at": diverged}
     if comm.rank == 0:
         out.mkdir(parents=True, exist_ok=True)
         keys = ["t", "D", "theta_over_pi", "area", "xc", "yc", "perimeter", "mean_stretch",
@@ -503,8 +512,8 @@ def main(argv=None):
     args = ap.parse_args(argv)
     if args.small:
         args.Lx, args.Ly, args.h_far, args.refine, args.t_end = 8.0, 6.0, 0.5, 1, 0.3
-    run(args, MPI.COMM_WORLD)
-    return 0
+    summary = run(args, MPI.COMM_WORLD)
+    return 3 if summary["status"] == "diverged" else 0
 
 
 if __name__ == "__main__":

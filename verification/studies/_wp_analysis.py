@@ -99,6 +99,12 @@ def analyse(name, prob, metrics, table):
     row = {"problem": name, "error_measure": prob["error"]}
     tkey = prob.get("time_key", "wall_seconds")
     if fe:
+        # FE runs that diverged before the end have no error: listed, left off the curve
+        div = [r for r in s[fe] if r.get("diverged_at") is not None]
+        if div:
+            row["fe_diverged"] = [{res_key: r[res_key], "t": r["diverged_at"]} for r in div]
+            for r in div:
+                metrics[f"fe_diverged_at_t_{name}_{res_key}{r[res_key]}"] = r["diverged_at"]
         for tk, suffix in ((tkey, ""), ("solver_seconds", "_solver_time")):
             if suffix and tk == tkey:
                 continue

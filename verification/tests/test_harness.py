@@ -248,3 +248,44 @@ def test_long_capsule_run_that_stops_unstable_is_reported_up_to_its_stop(tmp_pat
     assert ok.sets[0]["body[0].surface_velocity_reach"] == "1.5"
     assert metrics["capsule_volume_drift_t10_reach1.5"] == pytest.approx(1e-11 / 4.0, rel=1e-3)
     assert "capsule_long_run_unstable_at_t_reach1.5" not in metrics
+
+
+def test_stability_sweeps_a_case_unstable_with_the_automatic_dt_with_the_named_remedy(
+        tmp_path, monkeypatch):
+    """A stiff capsule whose run with the automatic dt stops UNSTABLE (Gs growth of the
+    default reach, whatever dt) has no dt margin: it is reported where it stopped, and the
+    sweep is made with surface_velocity_reach = 1.5, the remedy the message names."""
+    sys.path.insert(0, str(REPO / "verification" / "studies"))
+    import stability
+
+    calls = []
+
+    def fake_one_run(ctx, case, out, sets):
+        calls.append((out.parent.name, out.name, dict(sets)))
+        stiff = "1.5" != sets.get("body[0].surface_velocity_reach") and \
+            sets.get("body[0].elastic_modulus") == repr(1 / 0.002)
+        if stiff:
+            return {"exit_code": 3, "status": "unstable", "message": "UNSTABLE at ...",
+                    "stop_time": 0.557, "dt_typical": 5e-4}
+        k = float(out.name[1:]) if out.name.startswith("k") else 1.0
+        ok = k <= 2.0
+        return {"exit_code": 0 if ok else 3, "status": "completed" if ok else "unstable",
+                "message": "" if ok else "UNSTABLE", "stop_time": 2.0, "dt_typical": 1e-3,
+                "nonfinite_in_fields": 0}
+
+    monkeypatch.setattr(stability, "one_run", fake_one_run)
+    monkeypatch.setitem(stability.TIERS, "ci", {"n": 8, "cas": [0.002, 0.2],
+                                                 "ks": [1.0, 2.0, 4.0], "t_end": 0.25,
+                                                 "res": [], "grids": [], "long": None})
+
+    class Ctx:
+        tier, outdir, repo = "ci", tmp_path, REPO
+
+    res = stability.run(Ctx)
+    m = res["metrics"]
+    assert m["unstable_with_automatic_dt_at_t_capsule_ca0.002"] == 0.557
+    assert "stable_margin_capsule_ca0.002" not in m
+    assert m["stable_margin_capsule_ca0.002_reach1.5"] == 2.0
+    assert m["stable_margin_capsule"] == 2.0
+    assert any(c[0] == "capsule_ca0.002_reach1.5" for c in calls)
+    assert not any(c[0] == "capsule_ca0.2_reach1.5" for c in calls)  # only where needed

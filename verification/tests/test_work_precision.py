@@ -103,3 +103,21 @@ def test_capsule_3d_compares_one_rank_runs_with_the_fe_run():
     wp.capsule_3d_analysis(only_two, metrics, table)
     assert not any(k.startswith("speedup_vs_fe") for k in metrics)
     assert "1-rank" in table[0]["note"]
+
+
+def test_a_diverged_fe_run_is_listed_and_left_off_the_curve():
+    rows_fe = [{"n": 8, "error": 4e-2, "wall_seconds": 10.0, "solver_seconds": 9.0},
+               {"n": 16, "error": 1e-2, "wall_seconds": 40.0, "solver_seconds": 38.0},
+               {"n": 32, "error": None, "diverged_at": 0.94, "wall_seconds": 90.0,
+                "solver_seconds": 88.0}]
+    rows_cpp = [{"n": 8, "error": 3e-2, "wall_seconds": 1.0, "solver_seconds": 0.9},
+                {"n": 16, "error": 8e-3, "wall_seconds": 4.0, "solver_seconds": 3.8}]
+    prob = {"series": {"efsi 1 rank": rows_cpp, "FE (Eulerian, P2/P1) 1 rank": rows_fe},
+            "error": "|D(1) - D_BI(1)|"}
+    metrics, table = {}, []
+    wp.analyse("capsule_2d", prob, metrics, table)
+    assert metrics["fe_diverged_at_t_capsule_2d_n32"] == 0.94
+    assert table[0]["fe_diverged"] == [{"n": 32, "t": 0.94}]
+    # the equal-error comparison uses the two FE runs that reached t = 1
+    eq = table[0]["equal_error"]
+    assert eq["overlap"] and eq["t_slow"] <= 40.0
