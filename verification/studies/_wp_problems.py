@@ -311,11 +311,20 @@ def capsule_3d(ctx, cfg):
     # cached runs of the capsule_shear study (their own timer; d/16 ran on 1 rank, d/32 on
     # EFSI_VERIFY_RANKS: every row keeps its rank count). Series "efsi, Ca x" holds them and
     # the d/8 1-rank runs made here; "efsi 2 ranks, Ca 0.2" the d/8 2-rank runs.
-    for run in sorted(cache.glob("3d_n*_ca*_t2")):
+    # With EFSI_VERIFY_RECORDS=1 the committed records of those runs count too (a fresh
+    # build/ has no cache): completed() copies a finished record into the cache.
+    from _flowio import RECORDS, completed
+
+    names = {p.name for p in cache.glob("3d_n*_ca*_t2")}
+    if os.environ.get("EFSI_VERIFY_RECORDS") == "1":
+        names |= {p.name for p in (RECORDS / "capsule_shear").glob("3d_n*_ca*_t2")}
+    for name in sorted(names):
         # the neo-Hookean runs at the default width only (not the Skalak or width sweeps)
-        key = re.fullmatch(r"3d_n(\d+)_ca([0-9.]+)_t2", run.name)
+        key = re.fullmatch(r"3d_n(\d+)_ca([0-9.]+)_t2", name)
         if key is None:
             continue
+        run = cache / name
+        completed(run, 2.0)
         sfile = run / "summary.json"
         if not sfile.exists():
             skipped.append(f"{run.name}: not finished")
@@ -332,7 +341,9 @@ def capsule_3d(ctx, cfg):
         if m is None:
             continue
         m.update(n=n, Ca=ca, solver_seconds=s["wall_seconds"], wall_seconds=None,
-                 ranks=s.get("ranks", 1), source=str(run.relative_to(ctx.repo)))
+                 ranks=s.get("ranks", 1),
+                 source=str((RECORDS / "capsule_shear" / name).relative_to(ctx.repo))
+                 if (run / "record.json").exists() else str(run.relative_to(ctx.repo)))
         series.setdefault(f"efsi, Ca {ca:g}", []).append(m)
     # d/8 runs made here (32^3, Ca 0.2, to t = 2): cheap, timed on 1 and 2 ranks
     for n in cfg["run_n"]:

@@ -121,3 +121,35 @@ def test_a_diverged_fe_run_is_listed_and_left_off_the_curve():
     # the equal-error comparison uses the two FE runs that reached t = 1
     eq = table[0]["equal_error"]
     assert eq["overlap"] and eq["t_slow"] <= 40.0
+
+
+def test_capsule_3d_takes_committed_records_when_the_build_has_no_cache(tmp_path, monkeypatch):
+    """A fresh build/ holds no capsule_shear runs: with EFSI_VERIFY_RECORDS=1 the committed
+    records (finished, not resumed) become rows with their rank count and source; without it
+    there are none."""
+    import shutil
+    from types import SimpleNamespace
+
+    import _flowio
+
+    repo = tmp_path / "repo"
+    records = repo / "verification" / "records"
+    for name in ("3d_n16_ca0.2_t2", "3d_n32_ca0.2_t2", "3d_n16_w0.5_ca0.05_t2"):
+        shutil.copytree(_flowio.RECORDS / "capsule_shear" / name, records / "capsule_shear" / name)
+    (tmp_path / "shared").symlink_to(REPO.parent / "shared")
+    monkeypatch.setattr(_flowio, "RECORDS", records)
+    ctx = SimpleNamespace(repo=repo, outdir=repo / "build" / "verification" / "work_precision")
+    cfg = {"run_n": [], "ranks": []}
+
+    monkeypatch.delenv("EFSI_VERIFY_RECORDS", raising=False)
+    prob = wpp.capsule_3d(ctx, cfg)
+    assert "efsi, Ca 0.2" not in prob["series"]
+
+    monkeypatch.setenv("EFSI_VERIFY_RECORDS", "1")
+    prob = wpp.capsule_3d(ctx, cfg)
+    rows = prob["series"]["efsi, Ca 0.2"]
+    assert [(r["n"], r["ranks"]) for r in rows] == [(16, 1), (32, 2)]
+    assert all(r["source"].startswith("verification/records/capsule_shear/") for r in rows)
+    assert all(0.0 < r["error"] < 0.01 for r in rows)  # both meet the 0.01 target
+    # the width-sweep run is not a row of the neo-Hookean default-width series
+    assert all(len(s) <= 2 for s in prob["series"].values())
