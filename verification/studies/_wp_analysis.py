@@ -238,7 +238,22 @@ def markdown_table(table):
     return "\n".join(lines)
 
 
-def plot(ctx, problems, table):
+# The 1-minute load average before a run counts the study's own previous runs: about 1
+# (2 with 2-rank runs) when it runs alone on the 2-core machine.
+IDLE_LOAD_MEDIAN = 1.5
+
+
+def load_description(loads: list) -> str:
+    """Short wording of the machine load the timings were taken at (figure title, notes)."""
+    if not loads:
+        return "load not recorded"
+    med = float(np.median(loads))
+    if med <= IDLE_LOAD_MEDIAN:
+        return f"run alone on a 2-core machine, median 1-min load {med:.2f}"
+    return f"2-core machine UNDER LOAD, median 1-min load {med:.1f}"
+
+
+def plot(ctx, problems, table, load: str = "load not recorded"):
     import matplotlib
     matplotlib.use("Agg")
     import matplotlib.pyplot as plt
@@ -294,8 +309,7 @@ def plot(ctx, problems, table):
         ax.grid(True, which="both", lw=0.3, alpha=0.5)
     for ax in list(axes.flat)[len(names):]:
         ax.axis("off")
-    fig.suptitle(f"work-precision ({ctx.tier} tier; shared 2-core machine under load)",
-                 fontsize=10)
+    fig.suptitle(f"work-precision ({ctx.tier} tier; {load})", fontsize=10)
     fig.tight_layout()
     png = ctx.outdir / "work_precision.png"
     fig.savefig(png, dpi=110)

@@ -41,7 +41,7 @@ from __future__ import annotations
 
 import numpy as np
 
-from _wp_analysis import analyse, capsule_3d_analysis, markdown_table, plot
+from _wp_analysis import analyse, capsule_3d_analysis, load_description, markdown_table, plot
 from _wp_problems import PRESSURE_CAP, SHORT_RUN, capsule_2d, capsule_3d, flow_mms, slab, vof
 
 DESCRIPTION = ("work-precision: error vs wall time, efsi (1 and 2 ranks) vs FE reference, "
@@ -87,25 +87,26 @@ def run(ctx):
             capsule_3d_analysis(prob, metrics, table)
         else:
             analyse(name, prob, metrics, table)
-    png = plot(ctx, problems, table)
-    md = markdown_table(table)
-    (ctx.outdir / "table.md").write_text(md + "\n")
     loads = [x for p in problems.values() for rows in p["series"].values() for r in rows
              for x in r.get("loadavg_1min", [])]
+    png = plot(ctx, problems, table, load_description(loads))
+    md = markdown_table(table)
+    (ctx.outdir / "table.md").write_text(md + "\n")
     capped = [f"{name} {label} {r.get('n', r.get('N'))}: {r['pressure_cap_rows']} of "
               f"{r['diagnostic_rows']} diagnostic rows"
               for name, p in problems.items() for label, rows in p["series"].items()
               for r in rows if r.get("pressure_cap_rows")]
     metrics["loadavg_1min_median"] = float(np.median(loads)) if loads else None
     notes = (
-        "TIMINGS WERE TAKEN UNDER LOAD: a shared 2-core machine running other jobs (1-minute "
-        f"load average before the runs: median {np.median(loads):.1f}, range "
-        f"{min(loads):.1f}-{max(loads):.1f}; recorded per run in the tables). 'wall' is the "
+        f"Timings: {load_description(loads)} (1-minute load average before each run, which "
+        "counts the study's own previous runs: range "
+        f"{f'{min(loads):.1f}-{max(loads):.1f}' if loads else '-'}; recorded per run in the "
+        "tables). 'wall' is the "
         "whole process measured here (minimum of 2 repeats for runs shorter than "
         f"{SHORT_RUN:g} s; it includes Python/dolfinx import, about 1-2 s, for the FE "
-        "scripts and mpirun start-up for 2 ranks); 'solver' is the code's own timer. 2-rank "
-        "runs on 2 shared cores compete with the other jobs, so their speedups are lower "
-        "bounds of what an idle machine gives. Equal error: log-log interpolation between "
+        "scripts and mpirun start-up for 2 ranks); 'solver' is the code's own timer. Under "
+        "load, 2-rank runs on 2 cores compete with the other jobs, so their speedups are "
+        "lower bounds of what an idle machine gives. Equal error: log-log interpolation between "
         "the two runs bracketing the target, the target the geometric middle of the error "
         "range both solvers reach; no extrapolation. flow_mms: efsi's error is the RMS of "
         "its face velocities against the exact field (periodic box), the FE's the L2 norm / "

@@ -153,3 +153,10 @@ def test_capsule_3d_takes_committed_records_when_the_build_has_no_cache(tmp_path
     assert all(0.0 < r["error"] < 0.01 for r in rows)  # both meet the 0.01 target
     # the width-sweep run is not a row of the neo-Hookean default-width series
     assert all(len(s) <= 2 for s in prob["series"].values())
+
+
+def test_load_wording_follows_the_measured_load():
+    """The figure title and notes say 'UNDER LOAD' only when the timings were."""
+    assert "run alone" in wp.load_description([0.9, 1.1, 1.3])
+    assert "UNDER LOAD" in wp.load_description([1.2, 3.5, 4.0])
+    assert wp.load_description([]) == "load not recorded"
