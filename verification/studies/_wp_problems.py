@@ -313,7 +313,7 @@ def capsule_3d(ctx, cfg):
     # the d/8 1-rank runs made here; "efsi 2 ranks, Ca 0.2" the d/8 2-rank runs.
     # With EFSI_VERIFY_RECORDS=1 the committed records of those runs count too (a fresh
     # build/ has no cache): completed() copies a finished record into the cache.
-    from _flowio import RECORDS, completed
+    from _flowio import RECORDS, completed, record_dir
 
     names = {p.name for p in cache.glob("3d_n*_ca*_t2")}
     if os.environ.get("EFSI_VERIFY_RECORDS") == "1":
@@ -342,8 +342,8 @@ def capsule_3d(ctx, cfg):
             continue
         m.update(n=n, Ca=ca, solver_seconds=s["wall_seconds"], wall_seconds=None,
                  ranks=s.get("ranks", 1),
-                 source=str((RECORDS / "capsule_shear" / name).relative_to(ctx.repo))
-                 if (run / "record.json").exists() else str(run.relative_to(ctx.repo)))
+                 source=str((record_dir(run) if (run / "record.json").exists() else run)
+                            .relative_to(ctx.repo)))
         series.setdefault(f"efsi, Ca {ca:g}", []).append(m)
     # d/8 runs made here (32^3, Ca 0.2, to t = 2): cheap, timed on 1 and 2 ranks
     for n in cfg["run_n"]:
