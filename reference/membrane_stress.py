@@ -81,7 +81,7 @@ sys.path.insert(0, str(Path(__file__).resolve().parent))
 import membrane_laws as laws  # noqa: E402
 import surface_meshes as sm  # noqa: E402
 
-DATA = Path("/work/shared/data")
+DATA = Path(__file__).resolve().parent.parent / "verification" / "data"
 logging.getLogger().setLevel(logging.WARNING)   # silence the JIT compiler chatter
 
 

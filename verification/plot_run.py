@@ -2,7 +2,7 @@
 """Plot one efsi run: `plot_run.py OUTPUT_DIR` writes OUTPUT_DIR/diagnostics.png, and for a
 run with a membrane in simple shear OUTPUT_DIR/capsule.png: the Taylor deformation D and
 the inclination against shear-rate x time, with the published curves for the run's
-capillary number Ca = mu * shear_rate * a / Es (../shared/data/capsule_shear) when there
+capillary number Ca = mu * shear_rate * a / Es (verification/data/capsule_shear) when there
 are some."""
 import csv
 import sys
@@ -15,7 +15,7 @@ matplotlib.use("Agg")
 import matplotlib.pyplot as plt  # noqa: E402
 
 REPO = Path(__file__).resolve().parent.parent
-DATA = REPO.parent / "shared" / "data" / "capsule_shear"
+DATA = REPO / "verification" / "data" / "capsule_shear"
 SOURCES = {"pozrikidis1995": "Pozrikidis 1995 (BEM)",
            "ramanujan_pozrikidis1998": "Ramanujan & Pozrikidis 1998 (BEM)",
            "eggleton_popel1998": "Eggleton & Popel 1998 (IB)"}

@@ -289,7 +289,7 @@ def capsule_2d(ctx, cfg):
 def capsule_3d(ctx, cfg):
     import capsule_shear as cs
 
-    data = ctx.repo.parent / "shared" / "data" / "capsule_shear"
+    data = ctx.repo / "verification" / "data" / "capsule_shear"
     cache = ctx.repo / "build" / "verification" / "capsule_shear" / "runs"
 
     def measure(out, ca):

@@ -207,7 +207,7 @@ def run(ctx):
     matplotlib.use("Agg")
     import matplotlib.pyplot as plt
 
-    data = ctx.repo.parent / "shared" / "data" / "capsule_shear"
+    data = ctx.repo / "verification" / "data" / "capsule_shear"
     t_end = T_END[ctx.tier]
     cached_only = os.environ.get("EFSI_VERIFY_CACHED_ONLY") == "1"
     metrics, rows, skipped, runs3d, runs_skalak = {}, [], [], [], []

@@ -5,7 +5,7 @@ Runs build/bin/efsi_membrane_constitutive_study, which drives the solver's own l
 Gs = diag(lambda1^2, lambda2^2, 0), solves T2(lambda2) = 0 by bisection and compares
 lambda2 and T1 with MODEL.md "Constitutive checks" (round-off expected), then compares
 T1/Gs with the curves of Barthes-Biesel et al. (2002) digitised in
-../shared/data/uniaxial_stretch/ (Gs = 1: neo-Hookean Es = 3 Gs; Skalak Es/6 = Gs/4 and
+verification/data/uniaxial_stretch/ (Gs = 1: neo-Hookean Es = 3 Gs; Skalak Es/6 = Gs/4 and
 alpha = C). The data's C is not stated; the FE reference (reference/membrane_stress.py)
 chose C = 1 from a scan over {0.5, 1, 2, 10}; this study repeats the scan (C = 1 has
 the smallest max deviation, C = 2 a marginally smaller RMS relative one).
@@ -23,7 +23,7 @@ import matplotlib.pyplot as plt  # noqa: E402
 
 DESCRIPTION = "neo-Hookean and Skalak laws: uniaxial stretch vs closed forms and Barthes-Biesel 2002"
 
-DATA = Path("/work/shared/data/uniaxial_stretch")
+DATA = Path(__file__).resolve().parents[1] / "data" / "uniaxial_stretch"
 POINTS = {"ci": 100, "quick": 400, "full": 2000}
 C_SCAN = (0.5, 1.0, 2.0, 10.0)
 

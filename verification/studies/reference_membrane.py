@@ -7,6 +7,7 @@ Runs ``reference/membrane_stress.py`` (a code independent of ``solver/``):
   forms of MODEL.md and the digitised Barthes-Biesel et al. (2002) curves (Skalak C = 1).
 """
 import json
+from pathlib import Path
 
 import numpy as np
 
@@ -71,7 +72,7 @@ def run(ctx):
     ax[0].set_title("inflated sphere, s = 1.2")
     ax[0].legend()
     for law, mk in (("neo_hookean", "o"), ("skalak", "s")):
-        d = np.loadtxt(f"/work/shared/data/uniaxial_stretch/barthes_biesel2002_{law}.csv",
+        d = np.loadtxt(Path(__file__).resolve().parents[1] / "data" / "uniaxial_stretch" / f"barthes_biesel2002_{law}.csv",
                        delimiter=",")
         t = np.loadtxt(out / f"uniaxial_{law.replace('_', '-')}.csv", delimiter=",")
         ax[1].plot(d[:, 0], d[:, 1], mk, mfc="none", label=f"Barthes-Biesel 2002 {law}")

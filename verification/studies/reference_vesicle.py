@@ -13,6 +13,7 @@ box 4d x 3d x 3d, Ca = 0.05, t = 1; ~30-60 min on the shared 2-core machine) aga
 """
 import json
 import os
+from pathlib import Path
 
 import numpy as np
 
@@ -25,7 +26,7 @@ TIERS = {
     "full": {"meshes": [(0.5, 2), (0.5, 3)], "box": (16.0, 8.0), "bi_N": [128, 256],
              "fe3d": {"Ca": [0.05], "t_end": 1.0, "times": [0.5, 1.0]}},
 }
-DATA = "/work/shared/data/capsule_shear"
+DATA = str(Path(__file__).resolve().parents[1] / "data" / "capsule_shear")
 
 
 def _literature(name, Ca, t):
@@ -161,7 +162,7 @@ def run(ctx):
         b = np.genfromtxt(out / "bi" / f"bi_ca{Ca:g}_N{Nf}.csv", delimiter=",", names=True)
         ax.plot(b["t"], b["D"], ":", color="k" if Ca == 0.05 else "0.4", lw=2,
                 label=f"2D boundary integral Ca={Ca:g}, N={Nf}")
-        d3 = np.loadtxt(f"/work/shared/data/capsule_shear/pozrikidis1995_ca{Ca:g}.csv",
+        d3 = np.loadtxt(f"{DATA}/pozrikidis1995_ca{Ca:g}.csv",
                         delimiter=",")
         d3 = d3[np.argsort(d3[:, 0])]
         ax.plot(d3[:, 0], d3[:, 1], "o", ms=3, mfc="none", color=colors[Ca],

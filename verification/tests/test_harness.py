@@ -163,7 +163,7 @@ def test_width_sweep_reports_a_run_that_stopped_unstable_without_values_past_its
         eps = w * 2.0 / 8
         _fake_capsule_run(cs.run_dir(Ctx, 3, 8, 0.05, 2.0, None, w),
                           lambda t, e=eps: 0.2 + 0.1 * e * e * t, t_stop, status)
-    data = REPO.parent / "shared" / "data" / "capsule_shear"
+    data = REPO / "verification" / "data" / "capsule_shear"
     skipped, metrics, figures = [], {}, []
     rows = cs.width_sweep(Ctx, data, 2.0, True, skipped, metrics, figures)
     assert skipped == []  # an UNSTABLE stop is a cached result, not a missing run

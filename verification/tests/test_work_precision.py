@@ -136,7 +136,7 @@ def test_capsule_3d_takes_committed_records_when_the_build_has_no_cache(tmp_path
     records = repo / "verification" / "records"
     for name in ("3d_n16_ca0.2_t2", "3d_n32_ca0.2_t2", "3d_n16_w0.5_ca0.05_t2"):
         shutil.copytree(_flowio.RECORDS / "capsule_shear" / name, records / "capsule_shear" / name)
-    (tmp_path / "shared").symlink_to(REPO.parent / "shared")
+    shutil.copytree(REPO / "verification" / "data", repo / "verification" / "data")
     monkeypatch.setattr(_flowio, "RECORDS", records)
     ctx = SimpleNamespace(repo=repo, outdir=repo / "build" / "verification" / "work_precision")
     cfg = {"run_n": [], "ranks": []}
