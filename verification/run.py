@@ -9,8 +9,14 @@ Each study is a module ``verification/studies/<name>.py`` that defines
     DESCRIPTION = "one line"
     def run(ctx) -> dict
 
+    BOUNDS = [Bound(metric_regex, "<=" | ">=" | "==", limit, why, tiers=...), ...]
+
 ``run`` returns ``{"metrics": {name: number}, "tables": {...}, "figures": [paths],
-"notes": "..."}`` (only ``metrics`` is required).  The harness writes
+"notes": "..."}`` (only ``metrics`` is required). ``BOUNDS`` (see studies/_bounds.py) are
+the study's acceptance bounds: after the run each is checked against the metrics, the
+verdicts go into result.json, and a broken bound (or one that matches no metric) makes the
+study fail with status ``bounds_broken`` and the harness exit non-zero naming it. A study
+without bounds fails.  The harness writes
 ``build/verification/<name>/result.json`` (the study's dict plus the tier, the commands
 it ran, the software versions and the wall time) and ``build/verification/report.md``
 collecting every result present.
@@ -35,6 +41,8 @@ from pathlib import Path
 
 REPO = Path(__file__).resolve().parent.parent
 STUDIES_DIR = REPO / "verification" / "studies"
+sys.path.insert(0, str(STUDIES_DIR))
+import _bounds  # noqa: E402
 # EFSI_VERIFY_OUT moves the results (the CI test of every study's ci tier writes elsewhere, so
 # that it does not overwrite the quick/full results a developer keeps in build/verification).
 OUT_ROOT = Path(os.environ.get("EFSI_VERIFY_OUT", REPO / "build" / "verification"))
@@ -214,19 +222,39 @@ def main() -> int:
             failed.append(name)
             print(result["error"], file=sys.stderr)
         result["wall_seconds"] = time.time() - t0
+        result.setdefault("metrics", {})
+        if result["status"] == "ok":
+            bounds = getattr(mod, "BOUNDS", None)
+            if not bounds:
+                result["status"] = "failed"
+                result["error"] = f"study {name} declares no acceptance bounds (BOUNDS)"
+                failed.append(name)
+            else:
+                result["bounds"] = _bounds.evaluate(bounds, result["metrics"], args.tier)
+                bad = _bounds.broken(result["bounds"])
+                if bad:
+                    result["status"] = "bounds_broken"
+                    failed.append(name)
+                    for v in bad:
+                        print(f"   BOUND BROKEN in {name}: {_bounds.describe(v)}",
+                              file=sys.stderr, flush=True)
+                else:
+                    print(f"   {len(result['bounds'])} bound checks passed", flush=True)
         result["commands"] = ctx.commands
         result["versions"] = versions()
-        result.setdefault("metrics", {})
         (ctx.outdir / "result.json").write_text(json.dumps(result, indent=2, default=str))
         for k, v in result["metrics"].items():
             print(f"   {k} = {v}")
-        if args.tier == "full" and result["status"] == "ok" and not args.no_store:
+        # A full-tier result is kept whether or not it meets its bounds (a result that
+        # misses is reported with its numbers); a study that crashed is not.
+        if args.tier == "full" and result["status"] in ("ok", "bounds_broken") \
+                and not args.no_store:
             print(f"   stored in {store_full_result(name, result)}")
         print(f"   -> {ctx.outdir / 'result.json'} ({result['wall_seconds']:.1f} s)",
               flush=True)
     print(f"report: {write_report()}")
     if failed:
-        print(f"failed studies: {failed}", file=sys.stderr)
+        print(f"failed studies (crashed or broke a bound): {failed}", file=sys.stderr)
         return 1
     return 0
 

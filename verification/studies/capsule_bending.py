@@ -23,7 +23,18 @@ import numpy as np
 
 from _flowio import body_series, cached_run, capsule_box_sets
 
+from _bounds import Bound  # noqa: E402
+
 DESCRIPTION = "capsule in shear with bending (Eb/(a^2 Es) = 0.01, 0.05): D(t) vs no bending"
+
+# Acceptance bounds (verification/studies/_bounds.py): run.py fails the study, naming the
+# metric, when one breaks.
+BOUNDS = [
+    Bound(r"completed_.*", "==", 1, "every run reaches its end time"),
+    Bound(r"volume_drift_.*", "<=", 1e-10, "the VOF keeps the volume to round-off"),
+    Bound(r"D_reduction_t[12]_.*", ">=", 0.02,
+          "bending (Eb / (a^2 Es) >= 0.01) lowers D measurably", tiers=("quick", "full")),
+]
 
 # (dimension, cells per diameter, [Eb / (a^2 Es)], end time) per tier.
 TIERS = {

@@ -25,7 +25,34 @@ import numpy as np
 
 from _flowio import body_series, cached_run, capsule_box_sets, completed
 
+from _bounds import Bound  # noqa: E402
+
 DESCRIPTION = "capsule in shear: D(t) vs Ramanujan & Pozrikidis / Pozrikidis, volume drift, cost"
+
+# Acceptance bounds (verification/studies/_bounds.py): run.py fails the study, naming the
+# metric, when one breaks.
+BOUNDS = [
+    Bound(r"volume_drift_.*", "<=", 1e-10, "the VOF keeps the volume to round-off"),
+    Bound(r"D2d_t1_vs_bi_rel_ca[0-9.]+_n(32|64)", ">=", -0.1,
+          "2D D(1) within 10 % of the boundary integral at d/8-d/16"),
+    Bound(r"D2d_t1_vs_bi_rel_ca[0-9.]+_n(32|64)", "<=", 0.1,
+          "2D D(1) within 10 % of the boundary integral at d/8-d/16"),
+    Bound(r"D2d_t1_vs_bi_rel_ca[0-9.]+_n128", ">=", -0.02,
+          "2D D(1) within 2 % of the boundary integral at d/32", tiers=("full",)),
+    Bound(r"D2d_t1_vs_bi_rel_ca[0-9.]+_n128", "<=", 0.02,
+          "2D D(1) within 2 % of the boundary integral at d/32", tiers=("full",)),
+    Bound(r"max_abs_D_error_ca[0-9.]+_n64", "<=", 0.02,
+          "3D D(t) within 0.02 of Ramanujan & Pozrikidis 1998 at d/16", tiers=("quick", "full")),
+    Bound(r"max_abs_D_error_ca[0-9.]+_n128", "<=", 0.01,
+          "3D D(t) within 0.01 of Ramanujan & Pozrikidis 1998 at d/32", tiers=("full",)),
+    Bound(r"max_trace_Gs_ca[0-9.]+_n[0-9]+", "<=", 10,
+          "the membrane strain stays consistent (tr Gs of a capsule in shear is 2-3; issue 19)",
+          tiers=("quick", "full")),
+    Bound(r"trace_bound_exceeded_at_t_.*", "absent",
+          why="no run with the default keys passes the tensor bound", tiers=("quick", "full")),
+    Bound(r"unstable_at_t_ca[0-9.]+_n[0-9]+", "absent",
+          why="every run with the default interface width reaches its end time", tiers=("quick", "full")),
+]
 
 # (dimension, cells per diameter, Ca list) per tier.
 TIERS = {

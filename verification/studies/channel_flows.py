@@ -10,7 +10,19 @@ import numpy as np
 
 from _flowio import last_snapshot, pairwise_orders, read_snapshot, read_summary, slope
 
+from _bounds import Bound  # noqa: E402
+
 DESCRIPTION = "efsi flow core: Couette (round-off) and Poiseuille (O(h^2)) channel profiles"
+
+# Acceptance bounds (verification/studies/_bounds.py): run.py fails the study, naming the
+# metric, when one breaks.
+BOUNDS = [
+    Bound(r"couette_(max|stationary_max)_error", "<=", 1e-8,
+          "Couette flow is exact on the grid: error at solver tolerance"),
+    Bound(r"couette_max_v", "<=", 1e-8, "no wall-normal velocity in Couette flow"),
+    Bound(r"poiseuille_order(_max)?", ">=", 1.8, "second order in space"),
+    Bound(r"poiseuille_order", "<=", 2.3, "second order in space (not a lucky cancellation)"),
+]
 
 # Cells across the channel (y); x has ny / 4 cells (cube cells, periodic, power of two).
 POIS_GRIDS = {"ci": [8, 16, 32], "quick": [16, 32, 64, 128], "full": [16, 32, 64, 128, 256]}

@@ -56,8 +56,26 @@ import numpy as np
 import _meshcompare as mc
 from _flowio import slope
 
+from _bounds import Bound  # noqa: E402
+
 DESCRIPTION = ("cross-code: C++ vs FE fields through meshio (2D capsule in shear: u, p, phi; "
                "membrane traction on a linearly deformed sphere)")
+
+# Acceptance bounds (verification/studies/_bounds.py): run.py fails the study, naming the
+# metric, when one breaks.
+BOUNDS = [
+    Bound(r"fd_fe_velocity_diff_order", ">=", 0.8,
+          "efsi and the FE reference converge to each other (velocity, first order or better)"),
+    Bound(r"fd_fe_membrane_force_smoothed_diff_order", ">=", 1.0,
+          "the band-smoothed membrane traction converges to the FE one"),
+    Bound(r"fd_fe_phi_diff_L1_t0_max", "<=", 1e-3, "both codes start from the same capsule"),
+    Bound(r"fd_fe_D_rel_diff_d[0-9]+", ">=", -0.1, "D(t) within 10 % of the FE reference"),
+    Bound(r"fd_fe_D_rel_diff_d[0-9]+", "<=", 0.1, "D(t) within 10 % of the FE reference"),
+    Bound(r"fd_fe_D_rel_diff_d32", ">=", -0.05, "D(1) within 5 % of the FE at d/32",
+          tiers=("full",)),
+    Bound(r"fd_fe_D_rel_diff_d32", "<=", 0.05, "D(1) within 5 % of the FE at d/32",
+          tiers=("full",)),
+]
 
 # capsule: n = cells per diameter d = 2 a; box (Lx, Ly); times compared.
 # membrane: cells across the reference diameter 2 R0.

@@ -8,8 +8,19 @@ import numpy as np
 
 from _flowio import (cell_centres, last_snapshot, low_faces, pairwise_orders, read_snapshot,
                      read_summary, slope)
+from _bounds import Bound  # noqa: E402
 
 DESCRIPTION = "efsi flow core: 2D Taylor-Green exact solution, L2 orders of u and p"
+
+# Acceptance bounds (verification/studies/_bounds.py): run.py fails the study, naming the
+# metric, when one breaks.
+BOUNDS = [
+    Bound(r"order_[uvp]_L2", ">=", 1.8, "second order in space"),
+    Bound(r"order_[uvp]_L2", "<=", 2.3, "second order in space (not a lucky cancellation)"),
+    Bound(r"order_u_max", ">=", 1.7, "second order in the max norm too"),
+    Bound(r"max_divergence", "<=", 1e-9, "the projection leaves a divergence at solver tolerance"),
+    Bound(r"temporal_order_p", ">=", 0.9, "the pressure is at least first order in time (SMAC)"),
+]
 
 GRIDS = {"ci": [8, 16, 32], "quick": [16, 32, 64, 128], "full": [16, 32, 64, 128, 256]}
 CASE = "cases/taylor_green"

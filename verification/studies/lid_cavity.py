@@ -10,7 +10,19 @@ import numpy as np
 
 from _flowio import last_snapshot, read_snapshot, read_summary
 
+from _bounds import Bound  # noqa: E402
+
 DESCRIPTION = "efsi flow core: lid-driven cavity Re 100 / 1000 vs Ghia et al. (1982)"
+
+# Acceptance bounds (verification/studies/_bounds.py): run.py fails the study, naming the
+# metric, when one breaks.
+BOUNDS = [
+    Bound(r"ghia_max_abs_[uv]_error_re100", "<=", 0.01,
+          "centre-line velocities within 0.01 of Ghia et al. 1982 at Re 100"),
+    Bound(r"ghia_max_abs_[uv]_error_re1000", "<=", 0.02,
+          "centre-line velocities within 0.02 of Ghia et al. 1982 at Re 1000", tiers=("quick", "full")),
+    Bound(r"ke_rel_change_last_chunk_re[0-9]+", "<=", 1e-5, "the run reached a steady state"),
+]
 
 # Grid per tier and Reynolds number (None: skipped in that tier).
 GRIDS = {"ci": {100: 32, 1000: None}, "quick": {100: 64, 1000: 64},

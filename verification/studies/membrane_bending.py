@@ -30,7 +30,19 @@ import matplotlib.pyplot as plt  # noqa: E402
 from _bending_reference import bump_integrals, self_check  # noqa: E402
 from _flowio import slope  # noqa: E402
 
+from _bounds import Bound  # noqa: E402
+
 DESCRIPTION = "membrane bending load on a deformed sphere / circle vs an independent reference"
+
+# Acceptance bounds (verification/studies/_bounds.py): run.py fails the study, naming the
+# metric, when one breaks.
+BOUNDS = [
+    Bound(r"reference_.*", "<=", 1e-6, "the closed-form references agree with themselves"),
+    Bound(r"net_force_ratio_.*", "<=", 1e-13, "the bending force has no net force"),
+    Bound(r"bending_dropped_.*", "==", 0, "no band cell drops its bending force"),
+    Bound(r"order_.*", ">=", 1.7, "the bending force converges at second order"),
+    Bound(r"bending_force_order", ">=", 1.8, "the bending force converges at second order"),
+]
 
 GRIDS = {
     "ci": {2: [16, 32, 64]},

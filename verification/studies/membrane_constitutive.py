@@ -21,7 +21,19 @@ import matplotlib
 matplotlib.use("Agg")
 import matplotlib.pyplot as plt  # noqa: E402
 
+from _bounds import Bound  # noqa: E402
+
 DESCRIPTION = "neo-Hookean and Skalak laws: uniaxial stretch vs closed forms and Barthes-Biesel 2002"
+
+# Acceptance bounds (verification/studies/_bounds.py): run.py fails the study, naming the
+# metric, when one breaks.
+BOUNDS = [
+    Bound(r"law_error(_.*)?", "<=", 1e-12, "the laws equal their closed forms to round-off"),
+    Bound(r"uniaxial_solve_error_.*", "<=", 1e-10,
+          "uniaxial stretch with T2 = 0 solved to round-off"),
+    Bound(r"data_rms_rel_dev_(neo_hookean|skalak_C1)", "<=", 0.05,
+          "within the digitisation error of Barthes-Biesel et al. 2002 (a few %)"),
+]
 
 DATA = Path(__file__).resolve().parents[1] / "data" / "uniaxial_stretch"
 POINTS = {"ci": 100, "quick": 400, "full": 2000}

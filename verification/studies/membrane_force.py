@@ -22,7 +22,17 @@ import matplotlib.pyplot as plt  # noqa: E402
 
 from _flowio import slope  # noqa: E402  (least-squares observed order)
 
+from _bounds import Bound  # noqa: E402
+
 DESCRIPTION = "membrane force on an inflated sphere and a linearly deformed sphere: error and order"
+
+# Acceptance bounds (verification/studies/_bounds.py): run.py fails the study, naming the
+# metric, when one breaks.
+BOUNDS = [
+    Bound(r"net_force_ratio_.*", "<=", 1e-13, "the membrane force has no net force"),
+    Bound(r"force_order_.*", ">=", 1.7, "the membrane force converges at second order"),
+    Bound(r"membrane_force_order", ">=", 1.8, "the membrane force converges at second order"),
+]
 
 GRIDS = {
     "ci": {2: [16, 32, 64]},

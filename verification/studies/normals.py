@@ -16,7 +16,18 @@ import matplotlib.pyplot as plt  # noqa: E402
 
 from _flowio import slope  # noqa: E402  (least-squares observed order)
 
+from _bounds import Bound  # noqa: E402
+
 DESCRIPTION = "normal and curvature error of smoothed-VOF geometry vs resolution (4 stencils)"
+
+# Acceptance bounds (verification/studies/_bounds.py): run.py fails the study, naming the
+# metric, when one breaks.
+BOUNDS = [
+    Bound(r"(normal|curvature)_order", ">=", 1.8,
+          "normals and curvature of the distance stencil (the one in use) at second order"),
+    Bound(r"(normal|curvature)_order_(sphere|ellipsoid)_distance_[23]d", ">=", 1.8,
+          "normals and curvature of the distance stencil at second order on smooth shapes"),
+]
 
 TIERS = {
     "ci": {2: [32, 64, 128], 3: []},

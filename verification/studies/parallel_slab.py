@@ -19,7 +19,18 @@ import numpy as np
 
 from _flowio import slope  # noqa: E402  (least-squares observed order)
 
+from _bounds import Bound  # noqa: E402
+
 DESCRIPTION = "neo-Hookean layer under oscillating shear vs the 1D FE reference: errors, orders"
+
+# Acceptance bounds (verification/studies/_bounds.py): run.py fails the study, naming the
+# metric, when one breaks.
+BOUNDS = [
+    Bound(r"slab_order", ">=", 1.8, "smooth slab: velocity at second order"),
+    Bound(r"slab_strain_order", ">=", 1.8, "smooth slab: strain at second order"),
+    Bound(r"slab_order_sharp", ">=", 0.9, "sharp slab: first order (stress jump at the interface)"),
+    Bound(r"solid_volume_drift", "<=", 1e-10, "the VOF keeps the volume to round-off"),
+]
 
 TIERS = {"ci": [16, 32], "quick": [16, 32, 64], "full": [32, 64, 128]}
 T_END = 2.0

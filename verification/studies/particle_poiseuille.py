@@ -19,7 +19,19 @@ import numpy as np
 
 from _flowio import cached_run
 
+from _bounds import Bound  # noqa: E402
+
 DESCRIPTION = "2D neo-Hookean particle in Poiseuille flow: trajectory, deformation, volume vs grid"
+
+# Acceptance bounds (verification/studies/_bounds.py): run.py fails the study, naming the
+# metric, when one breaks.
+BOUNDS = [
+    Bound(r"solid_volume_drift", "<=", 1e-10, "the VOF keeps the volume to round-off"),
+    Bound(r"particle_trace_B_max", "<=", 10, "the solid's strain stays bounded"),
+    Bound(r"shift_rel_diff_[0-9]+_[0-9]+", "<=", 0.1,
+          "successive resolutions within 10 % of the lateral shift"),
+    Bound(r"particle_y_order", ">=", 1.0, "the migration converges with resolution", tiers=("quick", "full")),
+]
 
 # cells per diameter, end time
 # CPU on one core: quick ~4 min (12: 30 s, 16: 40 s, 24: 170 s); full ~1 h (16: 4 min,

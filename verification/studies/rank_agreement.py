@@ -5,7 +5,15 @@ from __future__ import annotations
 
 import numpy as np
 
+from _bounds import Bound  # noqa: E402
+
 DESCRIPTION = "efsi flow core: 2D and 3D Taylor-Green on 1, 2, 4 ranks agree (checkpoint.h5)"
+
+# Acceptance bounds (verification/studies/_bounds.py): run.py fails the study, naming the
+# metric, when one breaks.
+BOUNDS = [
+    Bound(r"max_rel_diff_.*", "<=", 1e-12, "the same answer on any rank count"),
+]
 
 RANKS = [1, 2, 4]
 TOL = 1e-10

@@ -11,7 +11,22 @@ from pathlib import Path
 
 import numpy as np
 
+from _bounds import Bound  # noqa: E402
+
 DESCRIPTION = "FE reference: membrane load on an inflated sphere (orders) and uniaxial tension"
+
+# Acceptance bounds (verification/studies/_bounds.py): run.py fails the study, naming the
+# metric, when one breaks.
+BOUNDS = [
+    Bound(r"fe_membrane(_skalak)?_traction_order", ">=", 1.8, "P2 FE traction at second order"),
+    Bound(r"fe_membrane_traction_order_P1", ">=", 0.9, "P1 FE traction at first order"),
+    Bound(r"fe_uniaxial_.*_closed_form", "<=", 1e-10, "uniaxial FE equals the closed form"),
+    Bound(r"fe_membrane_mpi2_max_rel_diff", "<=", 1e-10, "the same answer on 2 ranks"),
+    Bound(r"fe_uniaxial_.*_data_rms_rel_dev", "<=", 0.05,
+          "within the digitisation error of Barthes-Biesel et al. 2002 (a few %)"),
+    Bound(r"fe_membrane_tangential_load_rel", "<=", 1e-3,
+          "an inflated sphere carries no tangential load"),
+]
 
 LEVELS = {"ci": [1, 2, 3], "quick": [1, 2, 3, 4], "full": [1, 2, 3, 4, 5]}
 

@@ -4,7 +4,17 @@ import json
 
 import numpy as np
 
+from _bounds import Bound  # noqa: E402
+
 DESCRIPTION = "FE reference: Taylor-Hood MMS orders (Stokes and Navier-Stokes)"
+
+# Acceptance bounds (verification/studies/_bounds.py): run.py fails the study, naming the
+# metric, when one breaks.
+BOUNDS = [
+    Bound(r"fe(_ns)?_order_u_L2", ">=", 2.8, "Taylor-Hood P2 velocity at third order in L2"),
+    Bound(r"fe(_ns)?_order_p_L2", ">=", 1.8, "P1 pressure at second order"),
+    Bound(r"fe_order_u_H1", ">=", 1.8, "P2 velocity at second order in H1"),
+]
 
 MESHES = {"ci": [4, 8, 16], "quick": [8, 16, 32, 64], "full": [8, 16, 32, 64, 128]}
 

@@ -17,7 +17,24 @@ from pathlib import Path
 
 import numpy as np
 
+from _bounds import Bound  # noqa: E402
+
 DESCRIPTION = "FE reference: 2D Eulerian capsule in shear, D(t) at two meshes vs 2D boundary integrals"
+
+# Acceptance bounds (verification/studies/_bounds.py): run.py fails the study, naming the
+# metric, when one breaks.
+BOUNDS = [
+    Bound(r"fe_vs_bi_D_rel_diff_ca[0-9.]+", ">=", -0.1,
+          "FE D(1) within 10 % of the 2D boundary integral on the finest mesh"),
+    Bound(r"fe_vs_bi_D_rel_diff_ca[0-9.]+", "<=", 0.1,
+          "FE D(1) within 10 % of the 2D boundary integral on the finest mesh"),
+    Bound(r"fe_vs_bi_D_rel_diff_ca[0-9.]+", "<=", 0.03,
+          "FE D(1) within 3 % of the 2D boundary integral on the finest mesh", tiers=("full",)),
+    Bound(r"fe_area_drift_ca[0-9.]+", ">=", -1e-3, "the FE capsule keeps its area"),
+    Bound(r"fe_area_drift_ca[0-9.]+", "<=", 1e-3, "the FE capsule keeps its area"),
+    Bound(r"fe_D_ca[0-9.]+_t0.1_over_0.05", ">=", 0.9, "early-time D ~ t/2 for any Ca"),
+    Bound(r"fe_D_ca[0-9.]+_t0.1_over_0.05", "<=", 1.1, "early-time D ~ t/2 for any Ca"),
+]
 
 # (h_far, refine) pairs: h at the capsule = h_far / 2**refine (a = 1, d = 2)
 TIERS = {

@@ -19,7 +19,18 @@ import json
 import os
 import re
 
+from _bounds import Bound  # noqa: E402
+
 DESCRIPTION = "strong/weak scaling on 1, 2, 4 ranks: 3D Taylor-Green and 3D capsule; time per stage"
+
+# Acceptance bounds (verification/studies/_bounds.py): run.py fails the study, naming the
+# metric, when one breaks.
+BOUNDS = [
+    Bound(r"cell_updates_per_second_per_rank_.*", ">=", 1.0,
+          "every run of the sweep finished and was timed"),
+    Bound(r"strong_efficiency_flow_np2", ">=", 0.9,
+          "2 ranks at least 1.8x faster than 1 on an idle machine (issue 22)", tiers=("full",)),
+]
 
 # Per tier: cells per direction per rank-1 problem (flow, capsule), steps, rank counts.
 TIERS = {

@@ -49,7 +49,24 @@ import numpy as np
 
 from _flowio import body_series, cached_run
 
+from _bounds import Bound  # noqa: E402
+
 DESCRIPTION = "stability: fixed dt = k x automatic dt, status / NaN check / margin per case"
+
+# Acceptance bounds (verification/studies/_bounds.py): run.py fails the study, naming the
+# metric, when one breaks.
+BOUNDS = [
+    Bound(r"(crashed_runs|nonfinite_field_runs|nonfinite_checkpoint_runs)", "==", 0,
+          "no run crashes or writes a non-finite field or checkpoint"),
+    Bound(r"unstable_runs_with_nan_fields", "==", 0, "an unstable run stops before NaNs"),
+    Bound(r"stable_margin_(capsule|slab)", ">=", 1.0, "the automatic time step is stable"),
+    Bound(r"capsule_re[0-9.]+_k1_stable", "==", 1,
+          "the automatic time step is stable at every Re", tiers=("quick", "full")),
+    Bound(r"unstable_with_automatic_dt_at_t_.*", "absent",
+          why="the automatic time step is stable for every case", tiers=("quick", "full")),
+    Bound(r"capsule_long_run_unstable_at_t.*", "absent",
+          why="the long 3D capsule run reaches shear-rate x t = 10 (issue 19)", tiers=("full",)),
+]
 
 # Per tier: capsule cells per diameter, Ca list, k list, end time, Re list (capsule, Ca 0.2).
 TIERS = {

@@ -17,7 +17,19 @@ import matplotlib.pyplot as plt  # noqa: E402
 
 from _flowio import slope  # noqa: E402  (least-squares observed order)
 
+from _bounds import Bound  # noqa: E402
+
 DESCRIPTION = "B and Gs transport in linear flows against F = exp(A t): error and order"
+
+# Acceptance bounds (verification/studies/_bounds.py): run.py fails the study, naming the
+# metric, when one breaks.
+BOUNDS = [
+    Bound(r"B_error_L2_(shear|rotation)_[0-9]+", "<=", 1e-12,
+          "B is exact in simple shear and rigid rotation"),
+    Bound(r"B_order_extension", ">=", 1.8, "B at second order in extension"),
+    Bound(r"tensor_order(_shear|_extension|_rotation)?", ">=", 1.5,
+          "Gs at order 1.5 or better (1.6-1.7 measured)"),
+]
 
 GRIDS = {"ci": (2, [16, 32]), "quick": (2, [16, 32, 64]), "full": (3, [16, 32, 64])}
 

@@ -5,7 +5,19 @@ from __future__ import annotations
 import os
 import platform
 
+from _bounds import Bound  # noqa: E402
+
 DESCRIPTION = "efsi flow core: 3D Taylor-Green throughput on 1 and 2 ranks"
+
+# Acceptance bounds (verification/studies/_bounds.py): run.py fails the study, naming the
+# metric, when one breaks.
+BOUNDS = [
+    Bound(r"cell_updates_per_second_np[0-9]+", ">=", 1.0, "every run finished and was timed"),
+    Bound(r"speedup_np2", ">=", 1.8,
+          "2 ranks at least 1.8x faster than 1 on an idle machine (issue 22)", tiers=("full",)),
+    Bound(r"pressure_fraction_np1", "<=", 0.3,
+          "the pressure solve at most 30 % of a flow step (issue 22)", tiers=("full",)),
+]
 
 GRID = {"ci": 32, "quick": 64, "full": 128}
 STEPS = 20

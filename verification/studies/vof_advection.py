@@ -6,7 +6,21 @@ import json
 
 import numpy as np
 
+from _bounds import Bound  # noqa: E402
+
 DESCRIPTION = "VOF advection (MTHINC / THINC): Zalesak, single vortex, 3D deformation"
+
+# Acceptance bounds (verification/studies/_bounds.py): run.py fails the study, naming the
+# metric, when one breaks.
+BOUNDS = [
+    Bound(r"volume_error_max", "<=", 1e-12, "the VOF keeps the volume to round-off"),
+    Bound(r"phi_min", ">=", -1e-12, "0 <= phi"),
+    Bound(r"phi_max", "<=", 1.0 + 1e-12, "phi <= 1"),
+    Bound(r"clipped_volume_max", "<=", 1e-12, "no volume is clipped away"),
+    Bound(r"single_vortex_order", ">=", 1.5, "smooth shapes converge at second order"),
+    Bound(r"zalesak_order", ">=", 0.9, "a slotted disc (corners) converges at first order"),
+    Bound(r"deformation3d_order", ">=", 1.5, "3D deformation at second order", tiers=("full",)),
+]
 
 # (test, grids) per tier; the 3D runs dominate the cost (MTHINC ~ n^4).
 TIERS = {

@@ -44,8 +44,19 @@ import numpy as np
 from _wp_analysis import analyse, capsule_3d_analysis, load_description, markdown_table, plot
 from _wp_problems import PRESSURE_CAP, SHORT_RUN, capsule_2d, capsule_3d, flow_mms, slab, vof
 
+from _bounds import Bound  # noqa: E402
+
 DESCRIPTION = ("work-precision: error vs wall time, efsi (1 and 2 ranks) vs FE reference, "
                "speedup at equal error")
+
+# Acceptance bounds (verification/studies/_bounds.py): run.py fails the study, naming the
+# metric, when one breaks.
+BOUNDS = [
+    Bound(r"speedup_vs_fe_at_equal_error_flow_mms", ">=", 1.0,
+          "efsi reaches the FE reference's flow error in less time"),
+    Bound(r"speedup_vs_fe_at_equal_error_capsule_2d", ">=", 1.0,
+          "efsi reaches the FE reference's 2D capsule error in less time", tiers=("quick", "full")),
+]
 
 TIERS = {
     "ci": {"flow_mms": {"cpp": [8, 16], "cpp_auto_dt": [], "cpp_2ranks": [8, 16],

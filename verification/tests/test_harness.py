@@ -122,11 +122,15 @@ def test_full_tier_results_are_stored_and_published_with_a_status(tmp_path, monk
     stored["figures"] = [str(dest / "conv.png")]
     (dest / "result.json").write_text(json.dumps(stored))
     docs = tmp_path / "docs"
+    summary = tmp_path / "summary.md"
+    summary.write_text("# Verification report\n\nintro\n\n## Headline figures\n\n"
+                       "u order {{flow_mms:order_u_L2:.2f}}, VOF {{vof_advection:phi_min}}\n")
     out = subprocess.run([sys.executable, str(REPO / "verification" / "publish.py"),
-                          "--results", str(store), "--docs", str(docs)],
+                          "--results", str(store), "--docs", str(docs), "--summary", str(summary)],
                          capture_output=True, text=True)
     assert out.returncode == 0, out.stderr
     page = (docs / "verification.md").read_text()
+    assert "u order 1.99, VOF (no full-tier result yet)" in page
     n = len(harness.discover())
     assert f"**Status: partial.** 1 of {n} studies have a full-tier result" in page
     assert "capsule_shear" in page.split("not yet:")[1].split("\n")[0]
