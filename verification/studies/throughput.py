@@ -71,6 +71,11 @@ def run(ctx):
                               / rows[0]["cell_updates_per_second"])
     metrics["grid_n"] = n
     load_after = os.getloadavg()
+    # The machine's state as measured, never assumed: "idle" only when the 1-minute load
+    # before and after stayed below a quarter of a core.
+    metrics["loadavg_1min_before"] = load_before[0]
+    metrics["loadavg_1min_after"] = load_after[0]
+    state = "idle" if max(load_before[0], load_after[0]) < 0.25 else "UNDER LOAD"
     machine = {"cpu": cpu_model(), "cores": os.cpu_count(), "platform": platform.platform(),
                "loadavg_before": load_before, "loadavg_after": load_after}
     stage_names = sorted({k for row in rows for k in row["stages"]})
@@ -83,8 +88,9 @@ def run(ctx):
         f"pressure), {STEPS} steps, no field output, on 1 and 2 MPI ranks. Machine: "
         f"{machine['cpu']}, {machine['cores']} cores; the 2-rank run uses both cores. "
         "cell_updates_per_second = cells x steps / wall time (summary.json); "
-        "pressure_fraction = stages.pressure_solve / wall_seconds. Load average before/after: "
-        f"{load_before[0]:.2f} / {load_after[0]:.2f} (other jobs on the machine lower and "
-        "scatter the figures; a loaded machine hurts the 2-rank run most).")
+        "pressure_fraction = stages.pressure_solve / wall_seconds. Machine "
+        f"{state}: 1-minute load average before/after {load_before[0]:.2f} / "
+        f"{load_after[0]:.2f} (the runs themselves raise it; other jobs lower and scatter the "
+        "figures, and a loaded machine hurts the 2-rank run most).")
     return {"metrics": metrics, "tables": {"best": rows, "all_runs": all_runs, "stages": stage_table,
                                            "machine": machine}, "notes": notes}

@@ -27,8 +27,9 @@ Problems (error measure; reference):
 * capsule_3d: 3D capsule D(t): max |D - D_ref| over shear rate x t in [0.2, 2] against
   Ramanujan & Pozrikidis 1998 (capsule_shear.py's measure), from the cached runs of the
   capsule_shear study (build/verification/capsule_shear/runs/3d_*_t2, their solver wall time)
-  plus a d/8 run (32^3, Ca 0.2) made here on 1 and 2 ranks. FE: the 3D Eulerian FE run of
-  reference/README.md (Ca 0.05, d/8, 1844 s) at t = 0.2, 0.5, 1.
+  plus a d/8 run (32^3, Ca 0.2) made here on 1 and 2 ranks. FE: the 3D Eulerian FE run as measured
+  by the stored full tier of reference_vesicle (its Ca, d/8, wall time and D at its sample
+  times, read from verification/results/reference_vesicle/result.json, never typed here).
 
 Equal-error comparison: for a target error inside the range both solvers reach, the time
 each needs is interpolated linearly in log(time) against log(error) between the two runs

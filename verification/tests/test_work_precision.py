@@ -88,7 +88,7 @@ def test_capsule_3d_compares_one_rank_runs_with_the_fe_run():
             # a 2-rank row that is both faster and more accurate must not be used
             {"n": 32, "Ca": 0.05, "error": 1e-3, "error_at_fe_times": 1e-3,
              "solver_seconds": 1.0, "ranks": 2}]
-    prob = {"series": {"efsi, Ca 0.05": rows, "FE 3D (README) 1 rank, Ca 0.05": [fe]},
+    prob = {"series": {"efsi, Ca 0.05": rows, "FE 3D 1 rank, Ca 0.05": [fe]},
             "error": "max |D - D_ref|"}
     metrics, table = {}, []
     wp.capsule_3d_analysis(prob, metrics, table)
@@ -97,7 +97,7 @@ def test_capsule_3d_compares_one_rank_runs_with_the_fe_run():
     assert metrics["speedup_vs_fe_at_equal_error_capsule_3d_solver_time"] == \
         pytest.approx(1000.0 / t_cpp, rel=1e-12)
     assert metrics["capsule_3d_error_ca0.05_n128"] == 1e-3
-    only_two = {"series": {"efsi, Ca 0.05": rows[2:], "FE 3D (README) 1 rank, Ca 0.05": [fe]},
+    only_two = {"series": {"efsi, Ca 0.05": rows[2:], "FE 3D 1 rank, Ca 0.05": [fe]},
                 "error": "max |D - D_ref|"}
     metrics, table = {}, []
     wp.capsule_3d_analysis(only_two, metrics, table)
@@ -160,3 +160,18 @@ def test_load_wording_follows_the_measured_load():
     assert "run alone" in wp.load_description([0.9, 1.1, 1.3])
     assert "UNDER LOAD" in wp.load_description([1.2, 3.5, 4.0])
     assert wp.load_description([]) == "load not recorded"
+
+
+def test_fe_3d_row_is_read_from_the_stored_reference_vesicle_result(tmp_path):
+    """The FE 3D time and D come from reference_vesicle's stored result, not a constant."""
+    import json
+    res = tmp_path / "verification" / "results" / "reference_vesicle"
+    res.mkdir(parents=True)
+    assert wpp.fe_3d_measured(tmp_path) is None
+    (res / "result.json").write_text(json.dumps({
+        "metrics": {"fe3d_wall_seconds_ca0.05": 123.0, "fe3d_D_ca0.05_t0.5": 0.2,
+                    "fe3d_D_ca0.05_t1": 0.3, "fe3d_h_over_d_ca0.05": 0.125},
+        "versions": {"git": "0123456789abcdef"}, "stored": "2026-11-25"}))
+    fe = wpp.fe_3d_measured(tmp_path)
+    assert fe["wall_seconds"] == 123.0 and fe["Ca"] == 0.05 and fe["h"] == "d/8"
+    assert fe["D"] == {0.5: 0.2, 1.0: 0.3} and "0123456789" in fe["source"]
