@@ -1,6 +1,7 @@
 #include "time/smac.hpp"
 
 #include "operators/flow_operators.hpp"
+#include "operators/flow_sweeps.hpp"
 
 #include <algorithm>
 #include <cmath>
@@ -78,12 +79,16 @@ StepReport SmacStepper::step(FlowState& s, real dt, StageTimers& timers,
     return report;
 }
 
+bool SmacStepper::wall_at_low(int d) const {
+    return cfg_.boundaries[d][0].type != BoundaryType::Periodic && dec_.at_boundary(d, 0);
+}
+
 void SmacStepper::advection(const FlowState& s) {
     const GlobalGrid& g = dec_.grid();
-    for (int c = 0; c < s.u.dim; ++c)
-        for_each_cell(dec_.block().cells, [&](int i, int j, int k) {
-            adv_[c](i, j, k) = advection_at(s.u, g, c, {i, j, k});
-        });
+    sweep::for_each_component(s.u.dim, [&]<int C, int Dim>() {
+        sweep::require_same_layout(s.u[C], adv_[C]);
+        sweep::advection<C, Dim>(s.u, g, adv_[C]);
+    });
 }
 
 void SmacStepper::predictor(const FlowState& s, real dt, const VelocityField* force) {
@@ -94,6 +99,20 @@ void SmacStepper::predictor(const FlowState& s, real dt, const VelocityField* fo
     const real a1 = first ? 1.0 : 1.0 + 0.5 * dt / s.dt_prev;
     const real a0 = first ? 0.0 : -0.5 * dt / s.dt_prev;
     const real explicit_share = 1.0 - theta_;
+    if (!s.viscosity_varies && !pinning_) {
+        // Uniform viscosity (no bodies that change it, no pinned solids): the fused sweep.
+        const real mu0 = s.mu(0, 0, 0);
+        sweep::for_each_component(s.u.dim, [&]<int C, int Dim>() {
+            const sweep::PredictorCoefficients k{
+                a1, a0, dt, 1.0 / rho, cfg_.body_force[C], explicit_share * mu0 / rho};
+            sweep::require_same_layout(s.u[C], ustar_[C]);
+            sweep::require_same_layout(s.u[C], s.p);
+            sweep::predictor<C, Dim>(s.u, s.p, adv_[C], s.adv_prev[C],
+                                     force ? &(*force)[C] : nullptr, g, k, wall_at_low(C),
+                                     ustar_[C]);
+        });
+        return;
+    }
     for (int c = 0; c < s.u.dim; ++c)
         for_each_cell(dec_.block().cells, [&](int i, int j, int k) {
             const Int3 p{i, j, k};
@@ -192,12 +211,9 @@ SolveReport SmacStepper::pressure_solve(real dt) {
     const GlobalGrid& g = dec_.grid();
     halos_.fill(ustar_);
     const real scale = cfg_.fluid.density / dt;
-    real speed = 0;
-    for_each_cell(dec_.block().cells, [&](int i, int j, int k) {
-        rhs_(i, j, k) = -scale * divergence_at(ustar_, g, {i, j, k});
-        for (int c = 0; c < ustar_.dim; ++c)
-            speed = std::max(speed, std::abs(ustar_[c](i, j, k)));
-    });
+    sweep::require_same_layout(ustar_[0], rhs_);
+    const real speed = ustar_.dim == 2 ? sweep::divergence<2>(ustar_, g, scale, rhs_)
+                                       : sweep::divergence<3>(ustar_, g, scale, rhs_);
     // A divergence at round-off level of |v*|/h cannot be reduced further: stop there.
     const real floor = 1e-13 * scale * dec_.max(speed) / g.dx(0) * std::sqrt(real(g.total_cells()));
     // With no Dirichlet pressure anywhere the operator is singular: make the right-hand
@@ -214,13 +230,10 @@ void SmacStepper::correction(FlowState& s, real dt) {
     const GlobalGrid& g = dec_.grid();
     halos_.fill(phi_);
     const real scale = dt / cfg_.fluid.density;
-    for (int c = 0; c < s.u.dim; ++c)
-        for_each_cell(dec_.block().cells, [&](int i, int j, int k) {
-            const Int3 p{i, j, k};
-            s.u[c](p) = halos_.is_fixed_wall_face(c, p[c])
-                            ? 0.0
-                            : ustar_[c](p) - scale * gradient_at(phi_, g, c, p);
-        });
+    sweep::for_each_component(s.u.dim, [&]<int C, int Dim>() {
+        sweep::require_same_layout(s.u[C], phi_);
+        sweep::correction<C, Dim>(ustar_[C], phi_, g, scale, wall_at_low(C), s.u[C]);
+    });
     const real mean = mean_over_block(dec_, phi_);
     for_each_cell(dec_.block().cells,
                   [&](int i, int j, int k) { s.p(i, j, k) += phi_(i, j, k) - mean; });

@@ -52,6 +52,8 @@ class SmacStepper {
     SolveReport viscous_solve(const FlowState& s, real dt);
     SolveReport pressure_solve(real dt);
     void correction(FlowState& s, real dt);
+    /// True when this rank holds the fixed wall face at the low end of direction d.
+    bool wall_at_low(int d) const;
 
     const Config& cfg_;
     const Decomposition& dec_;
