@@ -27,6 +27,9 @@ import _bounds  # noqa: E402
 import run as harness  # noqa: E402
 
 # {{study:metric}} or {{study:metric:.3g}} in summary.md is replaced by the stored value.
+# {{table:study:name}} is replaced by the stored table, {{notes:study}} by the notes.
+TABLE = re.compile(r"\{\{table:([a-z0-9_]+):([A-Za-z0-9_]+)\}\}")
+NOTES = re.compile(r"\{\{notes:([a-z0-9_]+)\}\}")
 PLACEHOLDER = re.compile(r"\{\{([a-z0-9_]+):([A-Za-z0-9_.+-]+?)(?::([^}]+))?\}\}")
 
 
@@ -172,6 +175,21 @@ def fill(text: str, results: dict[str, dict]) -> str:
             raise SystemExit(f"summary.md names {{{{{study}:{metric}}}}}, "
                              "which no stored result has")
         return format(v, spec) if isinstance(v, (int, float)) else str(v)
+    def table_of(m):
+        res = results.get(m.group(1))
+        if res is None:
+            return "(no full-tier result yet)"
+        rows = (res.get("tables") or {}).get(m.group(2))
+        if not rows:
+            raise SystemExit(f"a page names the table {m.group(0)}, which the stored result lacks")
+        return "\n".join(table(rows, limit=60))
+
+    def notes_of(m):
+        res = results.get(m.group(1))
+        return res.get("notes", "") if res else "(no full-tier result yet)"
+
+    text = TABLE.sub(table_of, text)
+    text = NOTES.sub(notes_of, text)
     return PLACEHOLDER.sub(value, text)
 
 
@@ -187,6 +205,8 @@ def main() -> int:
     ap.add_argument("--docs", default=str(REPO / "docs"))
     ap.add_argument("--summary", default=str(REPO / "verification" / "summary.md"),
                     help="the hand-written text with {{study:metric}} placeholders")
+    ap.add_argument("--performance", default=str(REPO / "verification" / "performance.md"),
+                    help="the text of docs/performance.md, with placeholders")
     args = ap.parse_args()
     results, docs = Path(args.results), Path(args.docs)
     images = docs / "images" / "verification"
@@ -205,6 +225,10 @@ def main() -> int:
         lines += section(json.loads(f.read_text()), f.parent.name, images, "images/verification")
     (docs / "verification.md").write_text("\n".join(lines) + "\n")
     print(f"wrote {docs / 'verification.md'} ({len(found)} studies)")
+    perf = Path(args.performance)
+    if perf.exists():
+        (docs / "performance.md").write_text(fill(perf.read_text(), stored).rstrip() + "\n")
+        print(f"wrote {docs / 'performance.md'}")
     return 0
 
 

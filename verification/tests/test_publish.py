@@ -66,6 +66,8 @@ def test_published_page_is_up_to_date_with_the_stored_results(tmp_path):
     fresh = fresh.replace(str(results), "verification/results")
     committed = (REPO / "docs" / "verification.md").read_text()
     assert fresh.splitlines()[:60] == committed.splitlines()[:60]
+    assert (tmp_path / "docs" / "performance.md").read_text() == \
+        (REPO / "docs" / "performance.md").read_text()
     for name in [p.parent.name for p in results.glob("*/result.json")]:
         a = json.loads((results / name / "result.json").read_text())
         b = json.loads((REPO / "verification" / "results" / name / "result.json").read_text())
