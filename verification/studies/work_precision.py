@@ -129,7 +129,8 @@ def run(ctx):
         "Re = 0.01 of both Eulerian codes, so it has a floor that is not discretisation "
         "error. capsule_3d: efsi times are the solver timers of the capsule_shear study's "
         "cached runs (1 rank) and of the d/8 runs made here; the FE 3D figure is the one "
-        "recorded in reference/README.md. VOF: there is no FE VOF in reference/.")
+        "measured by the stored full tier of reference_vesicle. VOF: there is no FE VOF in "
+        "reference/.")
     if capped:
         notes += (" PRESSURE SOLVE AT ITS ITERATION CAP (" + str(PRESSURE_CAP) + ") in efsi "
                   "runs (their time is dominated by unconverged pressure solves, so they are "
