@@ -212,7 +212,7 @@ def main() -> int:
         print(f"== study {name} (tier {args.tier})", flush=True)
         t0 = time.time()
         result = {"study": name, "description": getattr(mod, "DESCRIPTION", ""),
-                  "tier": args.tier}
+                  "tier": args.tier, "loadavg_before": os.getloadavg()}
         try:
             result.update(mod.run(ctx))
             result["status"] = "ok"
@@ -222,6 +222,7 @@ def main() -> int:
             failed.append(name)
             print(result["error"], file=sys.stderr)
         result["wall_seconds"] = time.time() - t0
+        result["loadavg_after"] = os.getloadavg()
         result.setdefault("metrics", {})
         if result["status"] == "ok":
             bounds = getattr(mod, "BOUNDS", None)
