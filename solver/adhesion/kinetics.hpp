@@ -1,0 +1,68 @@
+// One kinetic Monte Carlo step of receptor-ligand binding and rupture (docs/method.md,
+// "Platelet adhesion (kinetic Monte Carlo)").
+//
+// In a step of length dt, with the states at the start of the step:
+//  1. every receptor bound at the start breaks with probability 1 - exp(-k_off(F) dt), F the
+//     bond's spring force (dissociation.hpp);
+//  2. every receptor free at the start that has a ligand free at the start within the
+//     reactive distance binds with probability 1 - exp(-k_on dt), to one of those ligands
+//     picked uniformly; when several receptors pick the same ligand, the one with the smallest
+//     priority draw gets it (ties: smaller id) and the others stay free this step.
+// A receptor or ligand freed in step 1 cannot bind again before the next step: at most one
+// event per receptor per step.
+//
+// Every draw is counter-based (counter_rng.hpp), keyed by (seed, receptor id, step, purpose),
+// and the conflict rule depends only on the proposals, not on the order they were made: the
+// outcome is the same for any processing order of the receptors, hence for any number of
+// ranks as long as the proposals for one ligand are resolved together.
+//
+// The skip test: a free receptor farther than reactive_distance + margin from every ligand
+// region gets no work (no draw, no lookup). A kinetics object and a LigandSet without ligands
+// hold no memory; the scratch list of proposals grows only when a receptor proposes.
+#pragma once
+
+#include "adhesion/ligand.hpp"
+#include "adhesion/parameters.hpp"
+#include "adhesion/receptor.hpp"
+
+#include <cstdint>
+#include <span>
+#include <vector>
+
+namespace efsi::adhesion {
+
+struct StepStats {
+    std::size_t skipped = 0;   ///< free receptors the skip test left alone
+    std::size_t examined = 0;  ///< free receptors that drew a binding number
+    std::size_t formed = 0;    ///< bonds formed
+    std::size_t broken = 0;    ///< bonds broken
+    std::size_t contested = 0; ///< proposals lost to another receptor for the same ligand
+};
+
+class Kinetics {
+  public:
+    /// Validates the parameters (InputError naming the key).
+    Kinetics(const AdhesionParameters& params, std::uint64_t seed);
+
+    /// Advances receptors and ligands by one step `step` of length dt [s]. The receptors'
+    /// ids must be unique; their positions are those at the start of the step.
+    StepStats step(std::span<Receptor> receptors, LigandSet& ligands, std::uint64_t step, real dt);
+
+    const AdhesionParameters& parameters() const { return p_; }
+    std::uint64_t seed() const { return seed_; }
+
+  private:
+    struct Proposal {
+        std::uint64_t ligand;
+        double priority;
+        std::uint64_t receptor;
+        std::size_t slot; // index in the receptors span
+    };
+
+    AdhesionParameters p_;
+    std::uint64_t seed_;
+    std::vector<Proposal> proposals_;
+    std::vector<std::uint64_t> candidates_;
+};
+
+} // namespace efsi::adhesion
