@@ -39,26 +39,51 @@ struct StepStats {
     std::size_t contested = 0; ///< proposals lost to another receptor for the same ligand
 };
 
+/// A free receptor's bid for a ligand in one step. Plain data (no pointers), so a parallel
+/// caller can gather the proposals of all ranks as bytes.
+struct Proposal {
+    std::uint64_t ligand = 0;
+    double priority = 0;        ///< the receptor's priority draw: smallest wins
+    std::uint64_t receptor = 0; ///< receptor id
+    std::uint64_t slot = 0;     ///< index of the receptor in the proposing caller's span
+};
+
 class Kinetics {
   public:
     /// Validates the parameters (InputError naming the key).
     Kinetics(const AdhesionParameters& params, std::uint64_t seed);
 
-    /// Advances receptors and ligands by one step `step` of length dt [s]. The receptors'
-    /// ids must be unique; their positions are those at the start of the step.
+    /// Advances receptors and ligands by one step `step` of length dt [s]: propose, rupture,
+    /// resolve, apply (below). The receptors' ids must be unique; their positions are those
+    /// at the start of the step.
     StepStats step(std::span<Receptor> receptors, LigandSet& ligands, std::uint64_t step, real dt);
+
+    // The phases of a step, for a parallel caller that owns part of the receptors and a
+    // copy of the ligands (tests/adhesion/test_adhesion_ranks.cpp does this on 1, 2 and 4
+    // ranks and gets the serial result):
+    //   propose(own receptors) -> gather all ranks' proposals;
+    //   rupture(own receptors) -> gather the released ligands, release them everywhere;
+    //   resolve(all proposals) -> the winners, the same on every rank;
+    //   apply(own receptors, winners) on every rank.
+
+    /// Appends the proposals of the free receptors (state at the start of the step).
+    void propose(std::span<const Receptor> receptors, const LigandSet& ligands, std::uint64_t step,
+                 real dt, std::vector<Proposal>& out, StepStats& stats);
+    /// Breaks bonds; appends the ids of the released ligands to `released` if given.
+    void rupture(std::span<Receptor> receptors, LigandSet& ligands, std::uint64_t step, real dt,
+                 StepStats& stats, std::vector<std::uint64_t>* released = nullptr) const;
+    /// Keeps, per ligand, the proposal with the smallest (priority, receptor id): a function
+    /// of the set of proposals, not of their order.
+    static void resolve(std::vector<Proposal>& proposals, StepStats& stats);
+    /// Binds every winner's ligand to its receptor in `ligands`, and the receptors of
+    /// `receptors` that made a winning proposal (matched by slot and id) to their ligand.
+    static void apply(std::span<Receptor> receptors, LigandSet& ligands,
+                      std::span<const Proposal> winners, StepStats& stats);
 
     const AdhesionParameters& parameters() const { return p_; }
     std::uint64_t seed() const { return seed_; }
 
   private:
-    struct Proposal {
-        std::uint64_t ligand;
-        double priority;
-        std::uint64_t receptor;
-        std::size_t slot; // index in the receptors span
-    };
-
     AdhesionParameters p_;
     std::uint64_t seed_;
     std::vector<Proposal> proposals_;

@@ -102,15 +102,14 @@ LifetimeStats lifetime_stats(std::vector<std::uint64_t> life, real k_off, real d
     }
     r.mean = s / n;
     r.se = std::sqrt((s2 / n - r.mean * r.mean) / n);
+    // Both CDFs are step functions of the integer K: compare them at every k = 1 .. max K.
     std::sort(life.begin(), life.end());
-    for (std::size_t i = 0; i < life.size();) {
-        std::size_t j = i;
-        while (j < life.size() && life[j] == life[i])
-            ++j;
-        const double cdf = -std::expm1(-k_off * dt * static_cast<double>(life[i]));
-        r.ks = std::max({r.ks, std::abs(static_cast<double>(j) / n - cdf),
-                         std::abs(static_cast<double>(i) / n - cdf)});
-        i = j;
+    std::size_t below = 0;
+    for (std::uint64_t k = 1; k <= life.back(); ++k) {
+        while (below < life.size() && life[below] <= k)
+            ++below;
+        const double cdf = -std::expm1(-k_off * dt * static_cast<double>(k));
+        r.ks = std::max(r.ks, std::abs(static_cast<double>(below) / n - cdf));
     }
     return r;
 }
