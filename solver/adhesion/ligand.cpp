@@ -128,7 +128,11 @@ LigandSet LigandSet::from_sites(std::vector<Real3> sites, real cell) {
 }
 
 std::int64_t LigandSet::cell_of(real x, int dim) const {
-    return static_cast<std::int64_t>(std::floor((x - origin_[dim]) / cell_));
+    // Clamped to one cell beyond the grid before the conversion, so that a point far away
+    // (or not finite) cannot overflow the integer.
+    const real c = std::floor((x - origin_[dim]) / cell_);
+    if (!(c >= -1)) return -1;
+    return c > static_cast<real>(ncell_[dim]) ? ncell_[dim] : static_cast<std::int64_t>(c);
 }
 
 void LigandSet::build_index(real cell) {

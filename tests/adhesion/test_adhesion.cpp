@@ -211,6 +211,11 @@ TEST(AdhesionLigands, LookupMatchesBruteForce) {
             }
         }
     }
+    // Points far away (or not finite) find nothing and overflow nothing.
+    int found = 0;
+    for (real far : {1e300, -1e300, real(NAN)})
+        s.for_each_within({far, far, far}, 70 * nm, [&](std::uint64_t, real) { ++found; });
+    EXPECT_EQ(found, 0);
 }
 
 // ---- rates and forces ---------------------------------------------------------------------
