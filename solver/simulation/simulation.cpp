@@ -340,6 +340,7 @@ int Simulation::run() {
                     cfg_.name, dec_->size(), dec_->ranks_per_dim()[0], dec_->ranks_per_dim()[1],
                     dec_->ranks_per_dim()[2], cfg_.grid.cells[0], cfg_.grid.cells[1],
                     cfg_.grid.cells[2], cfg_.grid.dim, cfg_.grid.dx(0)));
+    log(stepper_->solver_summary());
     if (s.step == 0) write_outputs_if_due(false);
     std::string status = "completed";
     std::string message;
