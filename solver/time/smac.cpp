@@ -194,7 +194,14 @@ SolveReport SmacStepper::viscous_solve(const FlowState& s, real dt) {
         for_each_cell(dec_.block().cells, [&](int i, int j, int k) {
             const Int3 p{i, j, k};
             real r = ustar_[c](p);
-            if (!halos_.is_fixed_wall_face(c, p[c])) {
+            // Only points next to a no-slip wall across their component get a wall term
+            // (the weights are computed there only: this loop runs before every solve).
+            bool next_to_wall = false;
+            for (int e = 0; e < s.u.dim; ++e)
+                for (int side = 0; side < 2; ++side)
+                    next_to_wall = next_to_wall || (e != c && on_box_face(dec_, bc, e, side, p) &&
+                                                    bc[e][side].type == BoundaryType::Wall);
+            if (next_to_wall && !halos_.is_fixed_wall_face(c, p[c])) {
                 const auto w = viscous_weights(s.mu, g, s.u.dim, c, p);
                 for (int e = 0; e < s.u.dim; ++e)
                     for (int side = 0; side < 2; ++side)
