@@ -178,6 +178,9 @@ std::vector<Problem> problems() {
         p.push_back(
             {"helmholtz_faces_y_3d_" + lay, n3, {P, faces(), closed(V, G)}, 1.0, 0.03, ranks});
     }
+    // Two cells along the slab split: on 3 and 4 ranks some slabs are empty.
+    p.push_back({"poisson_thin_3d", Int3{12, 8, 2}, {P, closed(G, G), P}, 0.0, 1.0});
+    p.push_back({"helmholtz_thin_3d", Int3{12, 8, 2}, {closed(V, G), P, faces()}, 1.0, 0.02});
     p.push_back({"poisson_periodic_2d", n2, {P, P, P}, 0.0, 1.0});
     p.push_back({"poisson_neumann_2d", n2, {closed(G, G), closed(G, G), P}, 0.0, 1.0});
     p.push_back({"poisson_channel_2d", n2, {P, closed(G, G), P}, 0.0, 1.0});
