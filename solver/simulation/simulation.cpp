@@ -442,6 +442,7 @@ void Simulation::write_summary(double wall_seconds, const std::string& status,
     for (const auto& [k, v] : timers_.seconds())
         stages[k] = v;
     j["stages"] = stages;
+    j["linear_solvers"] = stepper_->solver_summary();
     const Diagnostics& d = last_;
     j["final"] = {{"step", d.step},
                   {"time", d.time},
