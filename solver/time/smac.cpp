@@ -212,8 +212,9 @@ SolveReport SmacStepper::viscous_solve(const FlowState& s, real dt) {
             rhs_(p) = r;
         });
         if (viscous_fft_[c] && !s.viscosity_varies && !pinning_) {
-            // Constant coefficients: (I - a mu L_h) solved directly.
-            viscous_fft_[c]->set_coefficients(1.0, a * cfg_.fluid.viscosity);
+            // Constant coefficients: (I - a mu L_h) solved directly, mu the (uniform)
+            // viscosity field's value as the other terms and the hypre operator use it.
+            viscous_fft_[c]->set_coefficients(1.0, a * s.mu(0, 0, 0));
             const SolveReport r = viscous_fft_[c]->solve(rhs_, ustar_[c]);
             if (r.iterations >= worst.iterations) worst = r;
             continue;
