@@ -10,6 +10,7 @@ cd "$(dirname "$0")/.."
 PACKAGES=(
   build-essential cmake make pkg-config git clang-format
   libopenmpi-dev openmpi-bin libhypre-dev libhdf5-openmpi-dev libeigen3-dev
+  libfftw3-dev libfftw3-mpi-dev
   libtomlplusplus-dev libcli11-dev libfmt-dev nlohmann-json3-dev
   libgtest-dev libgmock-dev libbenchmark-dev
   python3-dolfinx python3-meshio python3-h5py python3-matplotlib python3-pytest python3-numpy

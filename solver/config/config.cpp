@@ -70,8 +70,11 @@ void apply_override(toml::table& root, const std::string& path, const std::strin
 
 LinearSolverSettings read_solver(TableReader r, real tol, int iters) {
     LinearSolverSettings s;
-    s.method = r.string("method", "pcg_pfmg", {"pcg_pfmg", "gmres_pfmg", "pcg_smg", "pfmg"},
-                        "hypre Struct solver: Krylov method and multigrid preconditioner");
+    s.method =
+        r.string("method", "auto", {"auto", "fft", "pcg_pfmg", "gmres_pfmg", "pcg_smg", "pfmg"},
+                 "auto: the direct FFT solve where the coefficients are constant, else "
+                 "pcg_pfmg; fft: always the FFT solve (an error where it cannot apply); "
+                 "or a hypre Struct solver (Krylov method and multigrid preconditioner)");
     s.tolerance = r.number("tolerance", tol, Range::positive(), "-",
                            "relative residual at which the solve stops");
     s.max_iterations = r.integer("max_iterations", iters, Range::closed(1, 1e6),
@@ -212,7 +215,7 @@ Config read_config(toml::table& root, const std::filesystem::path& case_dir) {
                                  "upper bound on the adaptive dt; 0 = none");
         const std::string v =
             r.string("viscous", "crank_nicolson", {"explicit", "crank_nicolson", "backward_euler"},
-                     "viscous term: explicit, or implicit (solved with hypre)");
+                     "viscous term: explicit, or implicit (see solver.viscous.method)");
         c.time.viscous = v == "explicit"         ? ViscousScheme::Explicit
                          : v == "crank_nicolson" ? ViscousScheme::CrankNicolson
                                                  : ViscousScheme::BackwardEuler;
@@ -220,10 +223,10 @@ Config read_config(toml::table& root, const std::filesystem::path& case_dir) {
     }
     {
         TableReader r = top.sub("solver", "linear solvers");
-        c.pressure_solver =
-            read_solver(r.sub("pressure", "pressure Poisson solve (hypre Struct)"), 1e-10, 500);
-        c.viscous_solver =
-            read_solver(r.sub("viscous", "implicit viscous solve (hypre Struct)"), 1e-10, 200);
+        c.pressure_solver = read_solver(
+            r.sub("pressure", "pressure Poisson solve (FFT or hypre Struct)"), 1e-10, 500);
+        c.viscous_solver = read_solver(
+            r.sub("viscous", "implicit viscous solve (FFT or hypre Struct)"), 1e-10, 200);
         r.finish();
     }
     {
@@ -267,13 +270,21 @@ Config read_config(toml::table& root, const std::filesystem::path& case_dir) {
         // Impossible set-ups, caught before allocation.
         if (c.time.fixed_dt == 0 && c.time.viscous == ViscousScheme::Explicit && c.time.cfl > 0.9)
             throw InputError("time.cfl: must be <= 0.9 with an explicit viscous term");
+        const LinearSolverChoice choice = choose_linear_solvers(c);
+        if (c.viscous_solver.method == "fft" && c.time.viscous != ViscousScheme::Explicit &&
+            !choice.viscous_fft)
+            throw InputError(fmt::format("solver.viscous.method = \"fft\": the FFT solve needs "
+                                         "constant coefficients, but {}; use \"auto\" or a "
+                                         "hypre method",
+                                         choice.viscous_reason));
         for (int d = 0; d < c.grid.dim; ++d)
             if (c.boundaries[d][0].type == BoundaryType::Periodic &&
-                (c.grid.cells[d] & (c.grid.cells[d] - 1)) != 0 &&
+                (c.grid.cells[d] & (c.grid.cells[d] - 1)) != 0 && !choice.pressure_fft &&
                 c.pressure_solver.method != "pcg_smg")
                 throw InputError(fmt::format(
                     "grid.cells[{}] = {}: hypre's PFMG needs a power of two along a periodic "
-                    "direction; use a power of two or solver.pressure.method = \"pcg_smg\"",
+                    "direction; use a power of two or solver.pressure.method = \"auto\", "
+                    "\"fft\" or \"pcg_smg\"",
                     d, c.grid.cells[d]));
     }
     std::ostringstream os;
@@ -283,6 +294,41 @@ Config read_config(toml::table& root, const std::filesystem::path& case_dir) {
 }
 
 } // namespace
+
+LinearSolverChoice choose_linear_solvers(const Config& c) {
+    LinearSolverChoice out;
+    // Pressure: -lap phi with zero normal gradient at every wall, one density everywhere
+    // and a uniform grid (the reader admits nothing else), so the FFT solve always applies.
+    const std::string& pm = c.pressure_solver.method;
+    out.pressure_fft = pm == "auto" || pm == "fft";
+    out.pressure_reason = pm == "auto"
+                              ? "uniform grid and one density (solver.pressure.method = \"auto\")"
+                          : pm == "fft" ? "solver.pressure.method = \"fft\""
+                                        : fmt::format("solver.pressure.method = \"{}\"", pm);
+    // Viscous: (I - theta dt mu / rho lap) needs a uniform mu and no pinned solid.
+    std::string obstacle;
+    if (c.time.viscous == ViscousScheme::Explicit) obstacle = "time.viscous = \"explicit\"";
+    for (const BodyConfig& b : c.bodies) {
+        if (!obstacle.empty()) break;
+        if (b.pinned)
+            obstacle =
+                fmt::format("body '{}' is pinned (its penalisation varies in space)", b.name);
+        else if (b.kind == "solid" && b.solid_viscosity >= 0 &&
+                 b.solid_viscosity != c.fluid.viscosity)
+            obstacle = fmt::format("body '{}' has solid_viscosity {} != fluid.viscosity {} "
+                                   "(the viscosity varies in space)",
+                                   b.name, b.solid_viscosity, c.fluid.viscosity);
+    }
+    const std::string& vm = c.viscous_solver.method;
+    out.viscous_fft = obstacle.empty() && (vm == "auto" || vm == "fft");
+    if (!obstacle.empty())
+        out.viscous_reason = obstacle;
+    else
+        out.viscous_reason = vm == "auto" ? "uniform viscosity, no pinned solid "
+                                            "(solver.viscous.method = \"auto\")"
+                                          : fmt::format("solver.viscous.method = \"{}\"", vm);
+    return out;
+}
 
 Config parse_case(const std::string& toml_text, const std::filesystem::path& case_dir,
                   const Overrides& overrides) {

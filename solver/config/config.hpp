@@ -74,6 +74,15 @@ struct Config {
     std::string resolved_toml; ///< the configuration with every default filled in
 };
 
+/// Which linear solvers a case gets: the direct FFT solve where the operator has constant
+/// coefficients and the method is "auto" or "fft", else hypre; with the reason, for the log.
+struct LinearSolverChoice {
+    bool pressure_fft = false;
+    bool viscous_fft = false;
+    std::string pressure_reason, viscous_reason;
+};
+LinearSolverChoice choose_linear_solvers(const Config& c);
+
 /// `--set section.key=value` overrides, applied to the TOML before it is read.
 using Overrides = std::vector<std::pair<std::string, std::string>>;
 

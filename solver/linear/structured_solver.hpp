@@ -16,8 +16,10 @@
 namespace efsi {
 
 struct LinearSolverSettings {
-    std::string method = "pcg_pfmg"; ///< pcg_pfmg | gmres_pfmg | pcg_smg | pfmg
-    real tolerance = 1e-10;          ///< relative residual ||r|| / ||b||
+    /// pcg_pfmg | gmres_pfmg | pcg_smg | pfmg; a case may also say auto | fft (config.hpp,
+    /// choose_linear_solvers), which the stepper resolves before it builds a hypre solver
+    std::string method = "pcg_pfmg";
+    real tolerance = 1e-10; ///< relative residual ||r|| / ||b||
     int max_iterations = 200;
 };
 

@@ -340,6 +340,7 @@ int Simulation::run() {
                     cfg_.name, dec_->size(), dec_->ranks_per_dim()[0], dec_->ranks_per_dim()[1],
                     dec_->ranks_per_dim()[2], cfg_.grid.cells[0], cfg_.grid.cells[1],
                     cfg_.grid.cells[2], cfg_.grid.dim, cfg_.grid.dx(0)));
+    log(stepper_->solver_summary());
     if (s.step == 0) write_outputs_if_due(false);
     std::string status = "completed";
     std::string message;
@@ -441,6 +442,7 @@ void Simulation::write_summary(double wall_seconds, const std::string& status,
     for (const auto& [k, v] : timers_.seconds())
         stages[k] = v;
     j["stages"] = stages;
+    j["linear_solvers"] = stepper_->solver_summary();
     const Diagnostics& d = last_;
     j["final"] = {{"step", d.step},
                   {"time", d.time},

@@ -22,6 +22,12 @@ real mean_over_block(const Decomposition& dec, const Field& f) {
     return dec.sum(s) / real(dec.grid().total_cells());
 }
 
+/// The hypre settings behind "auto" (and behind "fft" where it cannot apply).
+LinearSolverSettings hypre_settings(LinearSolverSettings s) {
+    if (s.method == "auto" || s.method == "fft") s.method = "pcg_pfmg";
+    return s;
+}
+
 } // namespace
 
 SmacStepper::SmacStepper(const Config& config, const Decomposition& dec, HaloFiller& halos)
@@ -32,27 +38,88 @@ SmacStepper::SmacStepper(const Config& config, const Decomposition& dec, HaloFil
       adv_("advection", dec.block(), dec.dim()),
       ustar_("predicted_velocity", dec.block(), dec.dim()),
       rhs_("rhs", Location::Cell, dec.block(), dec.dim()),
-      phi_("pressure_correction", Location::Cell, dec.block(), dec.dim()) {
+      phi_("pressure_correction", Location::Cell, dec.block(), dec.dim()),
+      choice_(choose_linear_solvers(config)) {
     const Bool3 periodic = periodic_directions(config.boundaries);
-    pressure_ = std::make_unique<StructuredSolver>(dec, periodic, config.pressure_solver);
-    // -lap(phi) with zero normal gradient at walls (the ghost equals the interior value,
-    // so the coupling and its share of the centre coefficient both drop out).
-    const GlobalGrid& g = dec.grid();
-    pressure_->set_operator([&](int i, int j, int k) {
-        Stencil s;
-        const Int3 p{i, j, k};
-        for (int e = 0; e < dec.dim(); ++e)
-            for (int side = 0; side < 2; ++side) {
-                if (on_box_face(dec, config.boundaries, e, side, p)) continue;
-                const real w = 1.0 / (g.dx(e) * g.dx(e));
-                s.neighbour[e][side] = -w;
-                s.centre += w;
-            }
-        return s;
-    });
+    if (choice_.pressure_fft || (theta_ > 0 && choice_.viscous_fft))
+        fft_workspace_ = make_fft_workspace(dec);
+    if (choice_.pressure_fft) {
+        // -lap(phi) with zero normal gradient at every wall (DCT-II there).
+        std::array<FftDirection, 3> dirs{};
+        for (int e = 0; e < 3; ++e)
+            dirs[e].periodic = periodic[e];
+        pressure_fft_ = std::make_unique<FftSolver>(dec, dirs, fft_workspace_);
+        pressure_fft_->set_coefficients(0.0, 1.0);
+    } else {
+        pressure_ = std::make_unique<StructuredSolver>(dec, periodic,
+                                                       hypre_settings(config.pressure_solver));
+        // -lap(phi) with zero normal gradient at walls (the ghost equals the interior
+        // value, so the coupling and its share of the centre coefficient both drop out).
+        const GlobalGrid& g = dec.grid();
+        pressure_->set_operator([&](int i, int j, int k) {
+            Stencil s;
+            const Int3 p{i, j, k};
+            for (int e = 0; e < dec.dim(); ++e)
+                for (int side = 0; side < 2; ++side) {
+                    if (on_box_face(dec, config.boundaries, e, side, p)) continue;
+                    const real w = 1.0 / (g.dx(e) * g.dx(e));
+                    s.neighbour[e][side] = -w;
+                    s.centre += w;
+                }
+            return s;
+        });
+    }
     if (theta_ > 0)
-        for (int c = 0; c < dec.dim(); ++c)
-            viscous_[c] = std::make_unique<StructuredSolver>(dec, periodic, config.viscous_solver);
+        for (int c = 0; c < dec.dim(); ++c) {
+            if (choice_.viscous_fft)
+                viscous_fft_[c] =
+                    std::make_unique<FftSolver>(dec, viscous_directions(c), fft_workspace_);
+            else
+                hypre_viscous(c);
+        }
+}
+
+std::array<FftDirection, 3> SmacStepper::viscous_directions(int c) const {
+    // The closures of the viscous stencil below: along its own direction, component c
+    // lives on faces and the wall faces are fixed (DST-I on the interior faces); across a
+    // no-slip wall the ghost is 2U - u (zero value on the wall, U in the right-hand side),
+    // across a free-slip wall it is u (zero gradient).
+    const auto& bc = cfg_.boundaries;
+    std::array<FftDirection, 3> dirs{};
+    for (int e = 0; e < 3; ++e) {
+        dirs[e].periodic = bc[e][0].type == BoundaryType::Periodic;
+        if (dirs[e].periodic) continue;
+        dirs[e].wall_faces = e == c;
+        auto side = [&](int s) {
+            return bc[e][s].type == BoundaryType::Wall ? FftSide::ZeroValue : FftSide::ZeroGradient;
+        };
+        dirs[e].low = side(0);
+        dirs[e].high = side(1);
+    }
+    return dirs;
+}
+
+StructuredSolver& SmacStepper::hypre_viscous(int c) {
+    if (!viscous_[c]) {
+        viscous_[c] = std::make_unique<StructuredSolver>(dec_, periodic_directions(cfg_.boundaries),
+                                                         hypre_settings(cfg_.viscous_solver));
+        viscous_dt_ = -1; // a new solver needs its operator
+    }
+    return *viscous_[c];
+}
+
+std::string SmacStepper::solver_summary() const {
+    std::string s = "linear solvers: pressure ";
+    s += pressure_fft_ ? "FFT direct [" + pressure_fft_->describe() + "]"
+                       : "hypre " + pressure_->settings().method;
+    s += " (" + choice_.pressure_reason + "); viscous ";
+    if (theta_ == 0)
+        s += "none (explicit)";
+    else if (viscous_fft_[0])
+        s += "FFT direct per component (" + choice_.viscous_reason + ")";
+    else
+        s += "hypre " + viscous_[0]->settings().method + " (" + choice_.viscous_reason + ")";
+    return s;
 }
 
 SmacStepper::~SmacStepper() = default;
@@ -139,13 +206,21 @@ SolveReport SmacStepper::viscous_solve(const FlowState& s, real dt) {
     const auto& bc = cfg_.boundaries;
     const real a = theta_ * dt / cfg_.fluid.density;
     const bool reassemble = s.viscosity_varies || dt != viscous_dt_;
+    bool used_hypre = false;
     SolveReport worst;
     for (int c = 0; c < s.u.dim; ++c) {
         // Right-hand side: the predictor plus the known wall values of the ghosts.
         for_each_cell(dec_.block().cells, [&](int i, int j, int k) {
             const Int3 p{i, j, k};
             real r = ustar_[c](p);
-            if (!halos_.is_fixed_wall_face(c, p[c])) {
+            // Only points next to a no-slip wall across their component get a wall term
+            // (the weights are computed there only: this loop runs before every solve).
+            bool next_to_wall = false;
+            for (int e = 0; e < s.u.dim; ++e)
+                for (int side = 0; side < 2; ++side)
+                    next_to_wall = next_to_wall || (e != c && on_box_face(dec_, bc, e, side, p) &&
+                                                    bc[e][side].type == BoundaryType::Wall);
+            if (next_to_wall && !halos_.is_fixed_wall_face(c, p[c])) {
                 const auto w = viscous_weights(s.mu, g, s.u.dim, c, p);
                 for (int e = 0; e < s.u.dim; ++e)
                     for (int side = 0; side < 2; ++side)
@@ -155,8 +230,17 @@ SolveReport SmacStepper::viscous_solve(const FlowState& s, real dt) {
             }
             rhs_(p) = r;
         });
-        if (reassemble) {
-            viscous_[c]->set_operator([&](int i, int j, int k) {
+        if (viscous_fft_[c] && !s.viscosity_varies && !pinning_) {
+            // Constant coefficients: (I - a mu L_h) solved directly, mu the (uniform)
+            // viscosity field's value as the other terms and the hypre operator use it.
+            viscous_fft_[c]->set_coefficients(1.0, a * s.mu(0, 0, 0));
+            const SolveReport r = viscous_fft_[c]->solve(rhs_, ustar_[c]);
+            if (r.iterations >= worst.iterations) worst = r;
+            continue;
+        }
+        StructuredSolver& solver = hypre_viscous(c);
+        if (reassemble || viscous_dt_ < 0) {
+            solver.set_operator([&](int i, int j, int k) {
                 Stencil st;
                 const Int3 p{i, j, k};
                 if (halos_.is_fixed_wall_face(c, p[c])) {
@@ -199,11 +283,12 @@ SolveReport SmacStepper::viscous_solve(const FlowState& s, real dt) {
             const Int3 p{i, j, k};
             ustar_[c](p) = s.u[c](p) + (halos_.is_fixed_wall_face(c, p[c]) ? 0.0 : shift);
         });
-        const SolveReport r = viscous_[c]->solve(rhs_, ustar_[c]);
+        const SolveReport r = solver.solve(rhs_, ustar_[c]);
         if (r.iterations >= worst.iterations) worst = r;
         worst.converged = worst.converged && r.converged;
+        used_hypre = true;
     }
-    viscous_dt_ = dt;
+    if (used_hypre) viscous_dt_ = dt;
     return worst;
 }
 
@@ -223,6 +308,8 @@ SolveReport SmacStepper::pressure_solve(real dt) {
         rhs_(i, j, k) -= mean;
         phi_(i, j, k) = 0;
     });
+    // The direct solve sets the (undetermined) mean of phi to zero.
+    if (pressure_fft_) return pressure_fft_->solve(rhs_, phi_);
     return pressure_->solve(rhs_, phi_, floor);
 }
 

@@ -3,8 +3,8 @@
 //   1. advection   A^n = -div(v^n v^n)                      (central, conservative)
 //   2. predictor   v* = v^n + dt [ AB2(A + F/rho) - grad p^n / rho + f / rho
 //                                  + (1 - theta) Lmu(v^n) / rho + T(v^n) / rho ]
-//   3. viscous     (I - theta dt Lmu / rho) v* = (predictor)     (implicit, hypre)
-//   4. pressure    -lap(phi) = -(rho / dt) div v*                (hypre)
+//   3. viscous     (I - theta dt Lmu / rho) v* = (predictor)     (implicit)
+//   4. pressure    -lap(phi) = -(rho / dt) div v*
 //   5. correction  v^{n+1} = v* - (dt / rho) grad phi,   p^{n+1} = p^n + phi
 //
 // Lmu u_c = div(mu grad u_c) is treated implicitly (theta = 1/2 Crank-Nicolson or 1
@@ -15,10 +15,15 @@
 // Pinned solids add the Brinkman penalisation -(chi / tau) v (chi their volume fraction on
 // the faces), implicit: the viscous solve becomes (I + K - theta dt Lmu / rho) v* = ...
 // with K = dt chi / tau, and the explicit scheme divides v* by (1 + K).
+//
+// The linear solves are direct (FFT, linear/fft_poisson.hpp) where the operator has
+// constant coefficients: always for the pressure, and for the viscous solve when mu is
+// uniform and nothing is pinned; otherwise hypre (config.hpp, choose_linear_solvers).
 #pragma once
 
 #include "boundary/boundary.hpp"
 #include "config/config.hpp"
+#include "linear/fft_poisson.hpp"
 #include "linear/structured_solver.hpp"
 #include "time/flow_state.hpp"
 #include "time/stage_timers.hpp"
@@ -46,6 +51,9 @@ class SmacStepper {
     /// tau is a fixed multiple of dt); null (the default) adds no term and no work.
     void set_pinning(const VelocityField* k) { pinning_ = k; }
 
+    /// Which solver runs for the pressure and the viscous solves, and why (for the log).
+    std::string solver_summary() const;
+
   private:
     void advection(const FlowState& s);
     void predictor(const FlowState& s, real dt, const VelocityField* force);
@@ -54,6 +62,8 @@ class SmacStepper {
     void correction(FlowState& s, real dt);
     /// True when this rank holds the fixed wall face at the low end of direction d.
     bool wall_at_low(int d) const;
+    StructuredSolver& hypre_viscous(int c);
+    std::array<FftDirection, 3> viscous_directions(int c) const;
 
     const Config& cfg_;
     const Decomposition& dec_;
@@ -62,9 +72,13 @@ class SmacStepper {
     VelocityField adv_;   ///< A^n
     VelocityField ustar_; ///< v*
     Field rhs_, phi_;
-    std::unique_ptr<StructuredSolver> pressure_;
-    std::array<std::unique_ptr<StructuredSolver>, 3> viscous_;
-    real viscous_dt_ = -1;                   ///< dt the viscous operators were assembled for
+    LinearSolverChoice choice_;
+    std::unique_ptr<StructuredSolver> pressure_; ///< hypre, when the FFT solve is not used
+    std::array<std::unique_ptr<StructuredSolver>, 3> viscous_; ///< hypre, built when needed
+    std::shared_ptr<FftWorkspace> fft_workspace_;
+    std::unique_ptr<FftSolver> pressure_fft_;
+    std::array<std::unique_ptr<FftSolver>, 3> viscous_fft_;
+    real viscous_dt_ = -1;                   ///< dt the hypre viscous operators were assembled for
     const VelocityField* pinning_ = nullptr; ///< K = dt chi / tau of pinned solids
 };
 

@@ -25,7 +25,11 @@ check(abs(v[-1] - v[0]) <= 1e-6 * v[0], f"layer volume drift {abs(v[-1] - v[0]) 
 
 limit = (1.0 / 32) / np.sqrt(100.0)
 forced = os.path.join(args.output, "forced")
-proc = run(args, "parallel_slab", forced, sets=stiff + [f"time.dt={2 * limit!r}"], expect=3)
+# Up to t = 2: the unstable mode varies along x and grows from whatever breaks the layer's
+# x-invariance. hypre's residuals (1e-10) seeded it by step 23 (t = 0.14); the exact FFT
+# solves leave only round-off, and it shows at step 113 (t = 0.71).
+proc = run(args, "parallel_slab", forced,
+           sets=[stiff[0], "time.end_time=2.0", f"time.dt={2 * limit!r}"], expect=3)
 check("UNSTABLE at step" in proc.stderr and "x = (" in proc.stderr,
       f"dt = 2 x elastic limit stops with the message: {proc.stderr.strip()[:160]}")
 for path in glob.glob(os.path.join(forced, "fields", "*.h5")) + glob.glob(os.path.join(forced, "checkpoint.h5")):

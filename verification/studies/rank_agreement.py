@@ -74,6 +74,8 @@ def run(ctx):
         "is compared with the 1-rank run: rel_diff = max|a_n - a_1| / max|a_1|. The metric "
         "max_rel_diff_ranks is the worst over cases, ranks and datasets; the target is 1e-10. "
         "Differences come from the summation order of global reductions and from the "
-        "decomposition-dependent iterates of the hypre Krylov/multigrid solves (converged to "
-        "their relative tolerances), not from the discretisation.")
+        "decomposition-dependent iterates of the hypre Krylov/multigrid solves where they run "
+        "(converged to their relative tolerances; the direct FFT solves, the default for "
+        "constant coefficients, differ between layouts only by round-off), not from the "
+        "discretisation.")
     return {"metrics": metrics, "tables": {"differences": rows}, "notes": notes}

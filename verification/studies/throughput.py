@@ -84,8 +84,9 @@ def run(ctx):
                     **{f"np{row['ranks']}_fraction": row["stages"].get(s, 0.0)
                        / row["wall_seconds"] for row in rows}} for s in stage_names]
     notes = (
-        f"cases/taylor_green_3d at {n}^3 cells (Re 1600, explicit viscous term, PCG + PFMG "
-        f"pressure), {STEPS} steps, no field output, on 1 and 2 MPI ranks. Machine: "
+        f"cases/taylor_green_3d at {n}^3 cells (Re 1600, explicit viscous term, direct FFT "
+        f"pressure solve: solver.pressure.method = auto), {STEPS} steps, no field output, "
+        f"on 1 and 2 MPI ranks. Machine: "
         f"{machine['cpu']}, {machine['cores']} cores; the 2-rank run uses both cores. "
         "cell_updates_per_second = cells x steps / wall time (summary.json); "
         "pressure_fraction = stages.pressure_solve / wall_seconds. Machine "
