@@ -111,6 +111,13 @@ std::vector<BodyConfig> read_bodies(TableReader& top, const GlobalGrid& grid,
         if (KeyCatalogue::instance().documenting) continue;
 
         const std::string at = fmt::format("body '{}'", b.name);
+        // The name becomes part of dataset and file names: letters, digits, _ and - only.
+        if (b.name.empty() || b.name.size() > 64 ||
+            b.name.find_first_not_of("abcdefghijklmnopqrstuvwxyzABCDEFGHIJKLMNOPQRSTUVWXYZ"
+                                     "0123456789_-") != std::string::npos)
+            throw InputError(fmt::format("{}.name = \"{}\": use 1 to 64 letters, digits, _ or - "
+                                         "(it names datasets and output fields)",
+                                         r.full("").substr(0, r.full("").size() - 1), b.name));
         if (!names.insert(b.name).second) throw InputError(at + ": the name is used twice");
         if (b.shape == "biconcave" && b.radius == 0) b.radius = 3.91e-6;
         auto need = [&](bool ok, const char* key) {

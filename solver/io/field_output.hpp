@@ -1,12 +1,17 @@
 // Field snapshots: one parallel-HDF5 file per snapshot under <output>/fields/, the mesh
 // once in mesh.h5, and fields.xdmf (XDMF 3, temporal collection) that ParaView opens and
 // meshio's TimeSeriesReader reads. The mesh is written as explicit hexahedra
-// (quadrilaterals in 2D) because meshio reads only unstructured topologies.
+// (quadrilaterals in 2D) because meshio reads only unstructured topologies (meshio 5 has
+// no 2DCoRectMesh / 3DCoRectMesh).
 //
 // Each snapshot holds cell-centred `pressure` and `velocity` (3 components; w = 0 in
-// 2D), the raw staggered components `faces/u`, `faces/v` (`faces/w`) as [nz][ny][nx]
-// arrays (index i is the low face of cell i), attributes `time` and `step`, and for
-// each body its phi and tensor components.
+// 2D), the raw staggered components `faces_u`, `faces_v` (`faces_w`) as [nz][ny][nx]
+// arrays (index i is the low face of cell i), attributes `time` (float) and `step`
+// (integer), and for each body its phi and tensor components. Every dataset carries the
+// string attributes `units` and `centring` (cell, node, x_face, y_face, z_face).
+//
+// Every file is written to `<name>.tmp` and renamed once complete; a failed write (disk
+// full) removes the tmp file and throws IoError on every rank.
 #pragma once
 
 #include "bodies/body.hpp"
@@ -39,6 +44,7 @@ class FieldOutput {
     };
     std::vector<std::string> extra_names_; ///< cell fields of bodies, in every snapshot
     std::vector<Entry> index_;
+    bool mesh_needed_ = false;
 };
 
 } // namespace efsi
