@@ -336,6 +336,22 @@ Config read_config(toml::table& root, const std::filesystem::path& case_dir) {
         r.finish();
     }
     c.bodies = read_bodies(top, c.grid, periodic_directions(c.boundaries));
+    if (!KeyCatalogue::instance().documenting)
+        for (std::size_t k = 0; k < c.bodies.size(); ++k) {
+            const BodyConfig& b = c.bodies[k];
+            if (b.shape != "mask") continue;
+            namespace fs = std::filesystem;
+            const fs::path file = fs::path(b.mask_file).is_absolute() ? fs::path(b.mask_file)
+                                                                      : case_dir / b.mask_file;
+            std::error_code ec;
+            const auto st = fs::status(file, ec);
+            if (!fs::exists(st))
+                throw InputError(fmt::format("body[{}].mask_file = \"{}\": no such file ({})", k,
+                                             b.mask_file, file.string()));
+            if (!fs::is_regular_file(st))
+                throw InputError(
+                    fmt::format("body[{}].mask_file = \"{}\": not a regular file", k, b.mask_file));
+        }
     c.vof = read_vof(top);
     {
         TableReader r = top.sub("parallel", "MPI decomposition");
