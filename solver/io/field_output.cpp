@@ -264,6 +264,49 @@ void FieldOutput::write_xdmf() const {
         text += fmt::format("</Grid>\n</Domain>\n</Xdmf>\n");
     }
     write_text(dir_ / "fields.xdmf", text, false);
+    write_image_xdmf();
+}
+
+void FieldOutput::write_image_xdmf() const {
+    // The same snapshots on the uniform grid as an image (3DCoRectMesh: origin and spacing,
+    // no mesh file; a 2D run is one cell thick in z), which ParaView reads as image data.
+    // XDMF orders dimensions, origin and spacing slowest first: z, y, x.
+    const GlobalGrid& g = dec_.grid();
+    const int nx = g.cells[0], ny = g.cells[1], nz = g.cells[2];
+    std::string text =
+        fmt::format("<?xml version=\"1.0\"?>\n<Xdmf Version=\"3.0\" "
+                    "xmlns:xi=\"http://www.w3.org/2001/XInclude\">\n<Domain>\n"
+                    "<Grid Name=\"fields\" GridType=\"Collection\" CollectionType=\"Temporal\">\n");
+    const std::string geometry = fmt::format(
+        "    <Topology TopologyType=\"3DCoRectMesh\" Dimensions=\"{} {} {}\"/>\n"
+        "    <Geometry GeometryType=\"ORIGIN_DXDYDZ\">\n"
+        "      <DataItem Dimensions=\"3\" NumberType=\"Float\" Precision=\"8\" "
+        "Format=\"XML\">{:.17g} {:.17g} {:.17g}</DataItem>\n"
+        "      <DataItem Dimensions=\"3\" NumberType=\"Float\" Precision=\"8\" "
+        "Format=\"XML\">{:.17g} {:.17g} {:.17g}</DataItem>\n    </Geometry>\n",
+        nz + 1, ny + 1, nx + 1, g.origin[2], g.origin[1], g.origin[0], g.dx(2), g.dx(1), g.dx(0));
+    auto attribute = [&](const std::string& name, const char* type, int ncomp,
+                         const std::string& file) {
+        const std::string dims = ncomp > 1 ? fmt::format("{} {} {} {}", nz, ny, nx, ncomp)
+                                           : fmt::format("{} {} {}", nz, ny, nx);
+        text += fmt::format("    <Attribute Name=\"{0}\" AttributeType=\"{1}\" Center=\"Cell\">\n"
+                            "      <DataItem Dimensions=\"{2}\" NumberType=\"Float\" "
+                            "Precision=\"8\" Format=\"HDF\">{3}:/{0}</DataItem>\n"
+                            "    </Attribute>\n",
+                            name, type, dims, file);
+    };
+    for (const auto& e : index_) {
+        text += fmt::format("  <Grid Name=\"step_{}\" GridType=\"Uniform\">\n{}"
+                            "    <Time Value=\"{:.17g}\"/>\n",
+                            e.step, geometry, e.time);
+        attribute("pressure", "Scalar", 1, e.file);
+        attribute("velocity", "Vector", 3, e.file);
+        for (const auto& n : extra_names_)
+            attribute(n, "Scalar", 1, e.file);
+        text += "  </Grid>\n";
+    }
+    text += "</Grid>\n</Domain>\n</Xdmf>\n";
+    write_text(dir_ / "fields_image.xdmf", text, false);
 }
 
 } // namespace efsi

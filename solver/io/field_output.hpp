@@ -2,7 +2,9 @@
 // once in mesh.h5, and fields.xdmf (XDMF 3, temporal collection) that ParaView opens and
 // meshio's TimeSeriesReader reads. The mesh is written as explicit hexahedra
 // (quadrilaterals in 2D) because meshio reads only unstructured topologies (meshio 5 has
-// no 2DCoRectMesh / 3DCoRectMesh).
+// no 2DCoRectMesh / 3DCoRectMesh). fields_image.xdmf holds the same snapshots on a
+// 3DCoRectMesh (origin and spacing; 2D runs one cell thick in z), which ParaView's XDMF
+// readers open as image data.
 //
 // Each snapshot holds cell-centred `pressure` and `velocity` (3 components; w = 0 in
 // 2D), the raw staggered components `faces_u`, `faces_v` (`faces_w`) as [nz][ny][nx]
@@ -34,6 +36,7 @@ class FieldOutput {
   private:
     void write_mesh();
     void write_xdmf() const;
+    void write_image_xdmf() const;
 
     std::filesystem::path dir_;
     const Decomposition& dec_;
