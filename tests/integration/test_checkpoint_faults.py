@@ -184,6 +184,30 @@ for ranks in (1, 2):
     check(not leftovers(out) and not published,
           f"np{ranks}: no tmp and no partial snapshot left ({published})")
 
+# (c') a really full disk, when a small tmpfs can be mounted (root, and a kernel that lets
+# this container mount): snapshots and checkpoints fill 300 kB until one does not fit.
+mnt = os.path.join(args.output, "tmpfs")
+os.makedirs(mnt)
+mounted = subprocess.run(["mount", "-t", "tmpfs", "-o", "size=300k", "tmpfs", mnt],
+                         capture_output=True).returncode == 0
+if not mounted:
+    print("skipped: a full tmpfs (cannot mount one here); the file-size limit stands in")
+else:
+    try:
+        out = os.path.join(mnt, "run")
+        proc = subprocess.run(command(out, tg_grid(32) + ["time.end_time=1.0",
+                                                         "output.fields_interval=0.05",
+                                                         "output.checkpoint_every=2"]),
+                              env=ENV, capture_output=True, text=True, timeout=300)
+        with open(os.path.join(out, "summary.json")) as f:
+            status = json.load(f)["status"]
+        check(proc.returncode == 3 and status == "io_error" and "No space left" in proc.stderr
+              and not leftovers(out),
+              f"full tmpfs: exit {proc.returncode}, status {status}, no tmp file: "
+              f"{proc.stderr.strip()[:200]}")
+    finally:
+        subprocess.run(["umount", mnt])
+
 # (d) corrupted and foreign checkpoints are refused with a message; nothing is written.
 src = os.path.join(first, "checkpoint.h5")
 bad_dir = os.path.join(args.output, "bad")
