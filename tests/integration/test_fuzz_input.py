@@ -27,7 +27,7 @@ args.efsi, args.cases = os.path.abspath(args.efsi), os.path.abspath(args.cases)
 rng = random.Random(20231123)
 # The debug preset's sanitizers (ASan reserves terabytes of address space, so no ulimit -v
 # there, and no leak report: MPI's own allocations at exit are not ours) and fewer inputs.
-SANITIZED = b"AddressSanitizer" in open(args.efsi, "rb").read()
+SANITIZED = b"__asan_init" in open(args.efsi, "rb").read()
 N_MUTATIONS = int(os.environ.get("EFSI_FUZZ_COUNT", "60" if SANITIZED else "240"))
 MEMORY = 4 << 30  # ulimit -v per efsi process
 ENV = dict(os.environ, OMPI_ALLOW_RUN_AS_ROOT="1", OMPI_ALLOW_RUN_AS_ROOT_CONFIRM="1",
@@ -302,6 +302,8 @@ def attempt(k_inp):
     missing = [w for w in inp["words"] if w not in p.stderr]
     if missing:
         problems.append(f"message does not name {missing}")
+    if "runtime error:" in p.stderr or "Sanitizer" in p.stderr:
+        problems.append("sanitizer report")
     if os.path.exists(out):
         problems.append("wrote the output folder")
     if cwd is not None:
