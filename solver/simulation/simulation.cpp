@@ -292,9 +292,14 @@ void Simulation::write_outputs_if_due(bool final_step) {
             measure_flow(*dec_, s, cfg_.fluid.density, last_);
             last_.step = s.step;
             last_.time = s.time;
-            if (dec_->rank() == 0)
-                std::ofstream(opt_.output_dir / "diagnostics.csv", std::ios::app)
-                    << last_.csv_row() << "\n";
+            // Rank 0 appends the rows; a failed append (disk full) stops every rank.
+            int failed = 0;
+            if (dec_->rank() == 0) {
+                std::ofstream out(opt_.output_dir / "diagnostics.csv", std::ios::app);
+                out << last_.csv_row() << "\n";
+                out.close();
+                if (!out) failed = 1;
+            }
             if (bodies_) {
                 last_bodies_ = bodies_->measure();
                 if (dec_->rank() == 0) {
@@ -307,7 +312,20 @@ void Simulation::write_outputs_if_due(bool final_step) {
                                            b.clipped_volume, b.patch_cells, b.bytes, b.area,
                                            b.taylor_deformation, b.inclination_over_pi,
                                            b.tensor_trace_max);
+                    out.close();
+                    if (!out) failed = 2;
                 }
+            }
+            MPI_Bcast(&failed, 1, MPI_INT, 0, dec_->comm());
+            if (failed) {
+                const fs::path cp = opt_.output_dir / "checkpoint.h5";
+                std::error_code ec;
+                throw IoError(fmt::format(
+                    "appending to {} at step {} failed (disk full?); {}",
+                    (opt_.output_dir / (failed == 1 ? "diagnostics.csv" : "bodies.csv")).string(),
+                    s.step,
+                    fs::exists(cp, ec) ? fmt::format("the last good checkpoint is {}", cp.string())
+                                       : std::string("there is no checkpoint of this run")));
             }
         });
     }
