@@ -103,7 +103,12 @@ for trial in range(6):
     proc.send_signal(signal.SIGKILL)
     proc.wait()
     if proc.returncode != -signal.SIGKILL:
-        check(False, f"kill {trial}: the run ended before the kill (exit {proc.returncode})")
+        # a machine faster than at the reference run: it finished first, as it should
+        check(proc.returncode == 0, f"kill {trial}: the run ended before the kill (exit "
+              f"{proc.returncode})")
+        same(reference, datasets(os.path.join(out, "checkpoint.h5")),
+             f"kill {trial}: finished before the kill")
+        continue
     kills += 1
     inside += os.path.exists(tmp)
     good = os.path.join(out, "checkpoint.h5")
@@ -114,6 +119,11 @@ for trial in range(6):
     check(0 < int(got["@step"]) <= nsteps,
           f"kill {trial}: the last checkpoint (step {int(got['@step'])}) is readable"
           f"{' (killed inside a checkpoint write)' if os.path.exists(tmp) else ''}")
+    if int(got["@step"]) == nsteps:
+        # killed after the last checkpoint was published: nothing left to run (a restart
+        # would be refused as at end_time); the checkpoint itself must be the final state
+        same(reference, got, f"kill {trial}: killed after the final checkpoint")
+        continue
     run(args, CASE, out, sets=sets_every, extra=["--restart", good])
     same(reference, datasets(good), f"kill {trial}: restart from step {int(got['@step'])}")
 check(inside >= 1, f"{inside} of {kills} kills hit a checkpoint write in progress")
