@@ -113,19 +113,33 @@ void BodySystem::initialise_body(std::size_t i) {
         if (!std::filesystem::exists(file))
             throw InputError(
                 fmt::format("body '{}': mask_file {} does not exist", bc.name, file.string()));
-        Hdf5File f(file, Hdf5File::Mode::Read, dec_);
-        if (!f.has(bc.mask_dataset))
-            throw InputError(fmt::format("body '{}': {} has no dataset '{}'", bc.name,
-                                         file.string(), bc.mask_dataset));
         try {
+            Hdf5File f(file, Hdf5File::Mode::Read, dec_);
+            if (!f.has(bc.mask_dataset))
+                throw InputError(fmt::format("body '{}': body.mask_dataset: {} has no dataset "
+                                             "'{}'",
+                                             bc.name, file.string(), bc.mask_dataset));
             f.read_block(bc.mask_dataset, phi);
         } catch (const InputError& e) {
+            const std::string m = e.what();
             throw InputError(
-                fmt::format("body '{}': mask_file {}: {}", bc.name, file.string(), e.what()));
+                m.rfind("body '", 0) == 0
+                    ? m
+                    : fmt::format("body '{}': body.mask_file {}: {}", bc.name, file.string(), m));
+        } catch (const IoError& e) {
+            throw InputError(fmt::format("body '{}': body.mask_file: {}", bc.name, e.what()));
         }
+        int bad = 0;
         for_each_in(phi.owned(), [&](int a, int b, int c) {
+            if (!std::isfinite(phi(a, b, c))) bad = 1;
             phi(a, b, c) = std::clamp(phi(a, b, c), 0.0, 1.0);
         });
+        int any = 0;
+        MPI_Allreduce(&bad, &any, 1, MPI_INT, MPI_MAX, dec_.comm());
+        if (any)
+            throw InputError(fmt::format("body '{}': body.mask_file {}: dataset '{}' holds "
+                                         "values that are not finite",
+                                         bc.name, file.string(), bc.mask_dataset));
     } else {
         const auto shape = make_shape(bc);
         if (bc.interface == "smoothed") {

@@ -111,6 +111,13 @@ std::vector<BodyConfig> read_bodies(TableReader& top, const GlobalGrid& grid,
         if (KeyCatalogue::instance().documenting) continue;
 
         const std::string at = fmt::format("body '{}'", b.name);
+        // The name becomes part of dataset and file names: letters, digits, _ and - only.
+        if (b.name.empty() || b.name.size() > 64 ||
+            b.name.find_first_not_of("abcdefghijklmnopqrstuvwxyzABCDEFGHIJKLMNOPQRSTUVWXYZ"
+                                     "0123456789_-") != std::string::npos)
+            throw InputError(fmt::format("{}.name = \"{}\": use 1 to 64 letters, digits, _ or - "
+                                         "(it names datasets and output fields)",
+                                         r.full("").substr(0, r.full("").size() - 1), b.name));
         if (!names.insert(b.name).second) throw InputError(at + ": the name is used twice");
         if (b.shape == "biconcave" && b.radius == 0) b.radius = 3.91e-6;
         auto need = [&](bool ok, const char* key) {
@@ -153,6 +160,26 @@ std::vector<BodyConfig> read_bodies(TableReader& top, const GlobalGrid& grid,
             b.shape != "slab" && b.shape != "ellipsoid")
             throw InputError(at + ": interface = \"smoothed\" needs a sphere, cylinder or "
                                   "ellipsoid or slab (shapes with a distance-like level function)");
+        const real nlen = std::hypot(b.normal[0], b.normal[1], b.normal[2]);
+        if (b.shape == "slab" && !(nlen > 0))
+            throw InputError(at + ": body.normal of a slab must not be zero");
+        if (b.angle != 0 && !(std::hypot(b.axis[0], b.axis[1], b.axis[2]) > 0))
+            throw InputError(at + ": body.axis must not be zero when body.angle is set");
+        if (b.shape == "slab") {
+            // The slab |n.(x - c)| <= t/2 must meet the box: n.(x - c) over the box corners.
+            real lo = 0, hi = 0;
+            for (int d = 0; d < grid.dim; ++d) {
+                const real n = b.normal[d] / nlen;
+                const real a = n * (grid.origin[d] - b.centre[d]);
+                const real z = n * (grid.origin[d] + grid.length[d] - b.centre[d]);
+                lo += std::min(a, z);
+                hi += std::max(a, z);
+            }
+            if (hi < -0.5 * b.thickness || lo > 0.5 * b.thickness)
+                throw InputError(fmt::format("{}: body.centre / normal: the slab lies entirely "
+                                             "outside the domain",
+                                             at));
+        }
         // A body must lie inside the box along walled directions, and meet the box at all.
         const Real3 h = half_extent(b, grid.dim);
         for (int d = 0; d < grid.dim; ++d) {

@@ -5,6 +5,7 @@
 
 #include <fmt/core.h>
 
+#include <algorithm>
 #include <fstream>
 #include <sstream>
 
@@ -22,6 +23,62 @@ std::string to_string(ViscousScheme s) {
     return "?";
 }
 
+std::string case_fingerprint(const Config& c) {
+    std::string out;
+    auto line = [&](const std::string& key, const std::string& value) {
+        out += key + " = " + value + "\n";
+    };
+    auto r3 = [](const Real3& v) {
+        return fmt::format("[{:.17g}, {:.17g}, {:.17g}]", v[0], v[1], v[2]);
+    };
+    line("grid.cells",
+         fmt::format("[{}, {}, {}]", c.grid.cells[0], c.grid.cells[1], c.grid.cells[2]));
+    line("grid.length", r3(c.grid.length));
+    line("grid.origin", r3(c.grid.origin));
+    const char* faces[3][2] = {{"x_low", "x_high"}, {"y_low", "y_high"}, {"z_low", "z_high"}};
+    for (int d = 0; d < 3; ++d)
+        for (int side = 0; side < 2; ++side) {
+            const FaceBoundary& f = c.boundaries[d][side];
+            const char* type = f.type == BoundaryType::Periodic ? "periodic"
+                               : f.type == BoundaryType::Wall   ? "wall"
+                                                                : "free_slip";
+            line(
+                std::string("boundary.") + faces[d][side],
+                fmt::format("{} velocity {} frequency {:.17g}", type, r3(f.velocity), f.frequency));
+        }
+    line("fluid.density", fmt::format("{:.17g}", c.fluid.density));
+    line("fluid.viscosity", fmt::format("{:.17g}", c.fluid.viscosity));
+    line("forcing.body_force", r3(c.body_force));
+    line("initial", fmt::format("{} amplitude {:.17g} velocity {}", c.initial.type,
+                                c.initial.amplitude, r3(c.initial.velocity)));
+    line("body.count", std::to_string(c.bodies.size()));
+    for (std::size_t k = 0; k < c.bodies.size(); ++k) {
+        const BodyConfig& b = c.bodies[k];
+        const std::string at = fmt::format("body[{}]", k);
+        line(at + ".name", b.name);
+        line(at + ".kind", fmt::format("{} pinned {} pin_tau_over_dt {:.17g}", b.kind, b.pinned,
+                                       b.pin_tau_over_dt));
+        line(at + ".shape",
+             fmt::format("{} centre {} radius {:.17g} semi_axes {} half_sizes {} normal {} "
+                         "thickness {:.17g} axis {} angle {:.17g} mask {}:{}",
+                         b.shape, r3(b.centre), b.radius, r3(b.semi_axes), r3(b.half_sizes),
+                         r3(b.normal), b.thickness, r3(b.axis), b.angle, b.mask_file,
+                         b.mask_dataset));
+        line(at + ".interface",
+             fmt::format("{} smoothing_width {:.17g} subsamples {} margin {}", b.interface,
+                         b.smoothing_width, b.subsamples, b.margin));
+        line(at + ".solid", fmt::format("shear_modulus {:.17g} solid_viscosity {:.17g} "
+                                        "extension_threshold {:.17g}",
+                                        b.shear_modulus, b.solid_viscosity, b.extension_threshold));
+        line(at + ".membrane",
+             fmt::format("{} elastic_modulus {:.17g} area_dilation {:.17g} bending_modulus "
+                         "{:.17g} strain_velocity {} surface_velocity_reach {:.17g}",
+                         b.law, b.elastic_modulus, b.area_dilation, b.bending_modulus,
+                         b.strain_velocity, b.surface_velocity_reach));
+    }
+    return out;
+}
+
 namespace {
 
 /// Apply one `a.b.c=value` override; the value is parsed as TOML (number, string in
@@ -35,20 +92,35 @@ void apply_override(toml::table& root, const std::string& path, const std::strin
         const std::string part = path.substr(start, dot - start);
         if (part.empty()) throw InputError(fmt::format("--set {}: malformed key", path));
         if (dot == std::string::npos) {
+            // A value that is not one TOML value (a bare word, or text with quotes or
+            // newlines that would not parse) is taken as the string itself.
             toml::table parsed;
-            try {
-                parsed = toml::parse("v = " + value);
-            } catch (const toml::parse_error&) {
-                parsed = toml::parse("v = \"" + value + "\"");
+            bool ok = value.find_first_of("\n\r") == std::string::npos;
+            if (ok) {
+                try {
+                    parsed = toml::parse("v = " + value);
+                    ok = parsed.size() == 1 && parsed.contains("v");
+                } catch (const toml::parse_error&) {
+                    ok = false;
+                }
             }
-            t->insert_or_assign(part, *parsed.get("v"));
+            if (ok)
+                t->insert_or_assign(part, *parsed.get("v"));
+            else
+                t->insert_or_assign(part, value);
             return;
         }
         // `name[i]` selects entry i of an array of tables ([[name]] sections).
         toml::node* n = nullptr;
         if (const auto br = part.find('['); br != std::string::npos && part.back() == ']') {
             const std::string name = part.substr(0, br);
-            const std::size_t index = std::stoul(part.substr(br + 1, part.size() - br - 2));
+            const std::string digits = part.substr(br + 1, part.size() - br - 2);
+            if (name.empty() || digits.empty() || digits.size() > 6 ||
+                digits.find_first_not_of("0123456789") != std::string::npos)
+                throw InputError(fmt::format("--set {}: '{}' needs an entry number, e.g. "
+                                             "body[0] (got '[{}]')",
+                                             path, part, digits));
+            const std::size_t index = std::stoul(digits);
             toml::array* a = t->get(name) ? t->get(name)->as_array() : nullptr;
             if (!a || index >= a->size() || !(*a)[index].is_table())
                 throw InputError(
@@ -130,6 +202,16 @@ Config read_config(toml::table& root, const std::filesystem::path& case_dir) {
         c.name = r.string("name", case_dir.filename().string(), {}, "case name (for logs)");
         c.description = r.string("description", "", {}, "one line on the physics");
         r.finish();
+        // The name is the default output folder out/<name>: it must stay inside out/.
+        if (!KeyCatalogue::instance().documenting &&
+            (c.name.empty() || c.name.size() > 128 || c.name[0] == '.' ||
+             c.name.find_first_of("/\\") != std::string::npos ||
+             std::any_of(c.name.begin(), c.name.end(),
+                         [](char ch) { return static_cast<unsigned char>(ch) < 32; })))
+            throw InputError(fmt::format("case.name = \"{}\": a name of 1 to 128 characters, "
+                                         "without / or \\, not starting with '.' (it is the "
+                                         "default output folder out/<name>)",
+                                         c.name));
     }
     {
         TableReader r = top.sub("grid", "the uniform Cartesian grid");
@@ -257,6 +339,22 @@ Config read_config(toml::table& root, const std::filesystem::path& case_dir) {
         r.finish();
     }
     c.bodies = read_bodies(top, c.grid, periodic_directions(c.boundaries));
+    if (!KeyCatalogue::instance().documenting)
+        for (std::size_t k = 0; k < c.bodies.size(); ++k) {
+            const BodyConfig& b = c.bodies[k];
+            if (b.shape != "mask") continue;
+            namespace fs = std::filesystem;
+            const fs::path file = fs::path(b.mask_file).is_absolute() ? fs::path(b.mask_file)
+                                                                      : case_dir / b.mask_file;
+            std::error_code ec;
+            const auto st = fs::status(file, ec);
+            if (!fs::exists(st))
+                throw InputError(fmt::format("body[{}].mask_file = \"{}\": no such file ({})", k,
+                                             b.mask_file, file.string()));
+            if (!fs::is_regular_file(st))
+                throw InputError(
+                    fmt::format("body[{}].mask_file = \"{}\": not a regular file", k, b.mask_file));
+        }
     c.vof = read_vof(top);
     {
         TableReader r = top.sub("parallel", "MPI decomposition");
@@ -350,11 +448,21 @@ Config load_case(const std::filesystem::path& case_path, const Overrides& overri
     namespace fs = std::filesystem;
     fs::path file = case_path;
     if (fs::is_directory(file)) file /= "case.toml";
-    if (!fs::exists(file))
+    std::error_code ec;
+    const auto st = fs::status(file, ec);
+    if (!fs::exists(st))
         throw InputError(fmt::format("{}: no such case (expected a folder with case.toml, or "
                                      "a .toml file)",
                                      case_path.string()));
+    if (!fs::is_regular_file(st))
+        throw InputError(fmt::format("{}: not a regular file (expected a folder with case.toml, "
+                                     "or a .toml file)",
+                                     file.string()));
+    // A case file is a few kB; a huge one is not a case (and would be read whole).
+    if (fs::file_size(file, ec) > (1u << 20))
+        throw InputError(fmt::format("{}: larger than 1 MB, not a case file", file.string()));
     std::ifstream in(file);
+    if (!in) throw InputError(fmt::format("{}: cannot be read", file.string()));
     std::stringstream ss;
     ss << in.rdbuf();
     fs::path dir = fs::absolute(file).parent_path();

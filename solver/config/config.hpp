@@ -99,4 +99,10 @@ std::string case_reference_markdown();
 
 std::string to_string(ViscousScheme s);
 
+/// The case a checkpoint belongs to, one `key = value` line per item: the grid, the
+/// boundaries, the fluid, the forcing, the initial condition, and every body's keys (not
+/// the time, output, solver, stability or parallel settings, which a restart may change).
+/// A restart from a checkpoint whose fingerprint differs is refused, naming the lines.
+std::string case_fingerprint(const Config& c);
+
 } // namespace efsi

@@ -74,6 +74,8 @@ real TableReader::number(const std::string& key, std::optional<real> deflt, Rang
         throw InputError(fmt::format("{}: expected a number [{}], got {}", full(key), unit,
                                      toml::impl::node_type_friendly_names[int(n->type())]));
     }
+    if (!std::isfinite(value))
+        throw InputError(fmt::format("{} = {}: must be a finite number", full(key), value));
     if (!range.contains(value))
         throw InputError(
             fmt::format("{} = {}: out of range (allowed: {})", full(key), value, range.describe()));
@@ -97,7 +99,8 @@ int TableReader::integer(const std::string& key, std::optional<int> deflt, Range
     } else {
         throw InputError(fmt::format("{}: expected an integer", full(key)));
     }
-    if (!range.contains(real(value)))
+    if (!range.contains(real(value)) || value > std::numeric_limits<int>::max() ||
+        value < std::numeric_limits<int>::min())
         throw InputError(
             fmt::format("{} = {}: out of range (allowed: {})", full(key), value, range.describe()));
     return int(value);
@@ -183,14 +186,17 @@ Int3 TableReader::ivector3(const std::string& key, std::optional<Int3> deflt, Ra
     for (int d = 0; d < 3; ++d) {
         if (!(*a)[d].is_integer())
             throw InputError(fmt::format("{}[{}]: expected an integer", full(key), d));
-        v[d] = int(*(*a)[d].value<long long>());
-        check_element(key, d, v[d], range);
+        const long long x = *(*a)[d].value<long long>();
+        check_element(key, d, real(x), range);
+        v[d] = int(x);
     }
     return v;
 }
 
 void TableReader::check_element(const std::string& key, int d, real value,
                                 const Range& range) const {
+    if (!std::isfinite(value))
+        throw InputError(fmt::format("{}[{}] = {}: must be a finite number", full(key), d, value));
     if (!range.contains(value))
         throw InputError(fmt::format("{}[{}] = {}: out of range (allowed: {})", full(key), d, value,
                                      range.describe()));

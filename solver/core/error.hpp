@@ -18,4 +18,11 @@ class RunError : public std::runtime_error {
     using std::runtime_error::runtime_error;
 };
 
+/// Writing an output or checkpoint failed (disk full, file-size limit, permissions): the
+/// run stops cleanly with exit code 3, naming the last good checkpoint.
+class IoError : public std::runtime_error {
+  public:
+    using std::runtime_error::runtime_error;
+};
+
 } // namespace efsi

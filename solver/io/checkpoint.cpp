@@ -5,6 +5,9 @@
 
 #include <fmt/core.h>
 
+#include <cstring>
+#include <sstream>
+
 namespace efsi {
 
 namespace fs = std::filesystem;
@@ -17,72 +20,225 @@ std::string velocity_name(int c) {
 std::string history_name(int c) {
     return std::string("advection_previous_") + "uvw"[c];
 }
+
+/// Version of the checkpoint layout: 2 = per-dataset checksums, case fingerprint and the
+/// checksum of the scalar attributes.
+constexpr double format_version = 2;
+
+/// Every dataset of a checkpoint with the field it is written from / read into.
+std::vector<std::pair<std::string, Field*>> datasets(const FlowState& cs,
+                                                     const std::vector<Body*>& bodies) {
+    FlowState& s = const_cast<FlowState&>(cs);
+    std::vector<std::pair<std::string, Field*>> out;
+    for (int c = 0; c < s.u.dim; ++c) {
+        out.emplace_back(velocity_name(c), &s.u[c]);
+        out.emplace_back(history_name(c), &s.adv_prev[c]);
+    }
+    out.emplace_back("pressure", &s.p);
+    out.emplace_back("viscosity", &s.mu);
+    for (Body* b : bodies) {
+        out.emplace_back("body_" + b->name() + "_phi", &b->phi());
+        for (Field& c : b->tensor().comp)
+            out.emplace_back("body_" + c.name(), &c);
+        if (Field* kr = b->reference_curvature()) out.emplace_back("body_" + kr->name(), kr);
+    }
+    return out;
+}
+
+/// FNV-1a 64 over the scalar attributes (name and value bits, in order) and the
+/// fingerprint, so that a flipped bit in the time or a patch box is caught as well.
+std::uint64_t attributes_checksum(const std::vector<std::pair<std::string, double>>& attrs,
+                                  const std::string& fingerprint) {
+    std::uint64_t h = 0xcbf29ce484222325ULL;
+    auto add = [&](const void* p, std::size_t n) {
+        const auto* b = static_cast<const unsigned char*>(p);
+        for (std::size_t i = 0; i < n; ++i) {
+            h ^= b[i];
+            h *= 0x100000001b3ULL;
+        }
+    };
+    for (const auto& [k, v] : attrs) {
+        add(k.data(), k.size());
+        add(&v, sizeof v);
+    }
+    add(fingerprint.data(), fingerprint.size());
+    return h;
+}
+
+std::string hex(std::uint64_t x) {
+    return fmt::format("{:016x}", x);
+}
+
+/// The lines of two fingerprints that differ, as "key: checkpoint X, case Y" (at most 4).
+std::string fingerprint_difference(const std::string& stored, const std::string& now) {
+    auto lines = [](const std::string& t) {
+        std::vector<std::pair<std::string, std::string>> v;
+        std::istringstream in(t);
+        std::string l;
+        while (std::getline(in, l)) {
+            const auto eq = l.find(" = ");
+            v.emplace_back(l.substr(0, eq), eq == std::string::npos ? "" : l.substr(eq + 3));
+        }
+        return v;
+    };
+    const auto a = lines(stored), b = lines(now);
+    std::string out;
+    int shown = 0;
+    auto value_of = [](const auto& v, const std::string& key) -> std::string {
+        for (const auto& [k, x] : v)
+            if (k == key) return x;
+        return "(absent)";
+    };
+    std::vector<std::string> keys;
+    for (const auto& [k, x] : a)
+        keys.push_back(k);
+    for (const auto& [k, x] : b)
+        if (std::find(keys.begin(), keys.end(), k) == keys.end()) keys.push_back(k);
+    for (const auto& k : keys) {
+        const std::string x = value_of(a, k), y = value_of(b, k);
+        if (x == y) continue;
+        if (shown++ < 4)
+            out +=
+                fmt::format("{}{}: checkpoint '{}', case '{}'", out.empty() ? "" : "; ", k, x, y);
+    }
+    if (shown > 4) out += fmt::format("; and {} more", shown - 4);
+    return out;
+}
 } // namespace
 
 void write_checkpoint(const fs::path& file, const Decomposition& dec, const FlowState& s,
-                      const RunClock& clock, const std::vector<Body*>& bodies) {
+                      const RunClock& clock, const std::vector<Body*>& bodies,
+                      const std::string& fingerprint) {
     const fs::path tmp = fs::path(file.string() + ".tmp");
-    {
-        Hdf5File f(tmp, Hdf5File::Mode::Create, dec);
-        for (int c = 0; c < s.u.dim; ++c) {
-            f.write_block(velocity_name(c), s.u[c]);
-            f.write_block(history_name(c), s.adv_prev[c]);
-        }
-        f.write_block("pressure", s.p);
-        f.write_block("viscosity", s.mu);
-        f.write_attribute("time", s.time);
-        f.write_attribute("step", double(s.step));
-        f.write_attribute("dt_prev", s.dt_prev);
-        f.write_attribute("dim", dec.dim());
-        f.write_attribute("next_fields_time", clock.next_fields_time);
-        for (const Body* b : bodies) {
-            const std::string base = "body_" + b->name() + "_";
-            for (int d = 0; d < 3; ++d) {
-                f.write_attribute(base + "lo" + std::to_string(d), b->patch().global.lo[d]);
-                f.write_attribute(base + "hi" + std::to_string(d), b->patch().global.hi[d]);
+    std::vector<std::pair<std::string, std::uint64_t>> sums;
+    try {
+        {
+            const auto all = datasets(s, bodies);
+            Hdf5File f(tmp, Hdf5File::Mode::Create, dec,
+                       std::uint64_t(all.size()) * std::uint64_t(dec.grid().total_cells()) * 8);
+            for (const auto& [name, field] : all)
+                sums.emplace_back(name, f.write_block(name, *field));
+            std::vector<std::pair<std::string, double>> attrs = {
+                {"time", s.time},
+                {"step", double(s.step)},
+                {"dt_prev", s.dt_prev},
+                {"dim", double(dec.dim())},
+                {"next_fields_time", clock.next_fields_time},
+                {"format", format_version}};
+            for (const Body* b : bodies) {
+                const std::string base = "body_" + b->name() + "_";
+                for (int d = 0; d < 3; ++d) {
+                    attrs.emplace_back(base + "lo" + std::to_string(d), b->patch().global.lo[d]);
+                    attrs.emplace_back(base + "hi" + std::to_string(d), b->patch().global.hi[d]);
+                }
             }
-            f.write_block(base + "phi", b->phi());
-            for (const Field& c : b->tensor().comp)
-                f.write_block("body_" + c.name(), c);
-            if (const Field* kr = b->reference_curvature())
-                f.write_block("body_" + kr->name(), *kr);
+            for (const auto& [k, v] : attrs)
+                f.write_attribute(k, v);
+            // Strings on group /integrity: the root's attributes stay numbers.
+            f.write_string_attribute("case_fingerprint", fingerprint, "integrity");
+            f.write_string_attribute("attributes_checksum",
+                                     hex(attributes_checksum(attrs, fingerprint)), "integrity");
+            f.close();
         }
+        // Verify before publishing: reopened, every dataset present and read back to the
+        // checksum of the values in memory.
+        {
+            Hdf5File f(tmp, Hdf5File::Mode::Read, dec);
+            const auto all = datasets(s, bodies);
+            for (std::size_t q = 0; q < all.size(); ++q) {
+                const std::uint64_t back = f.read_checksum(all[q].first, *all[q].second);
+                if (back != sums[q].second || f.stored_checksum(all[q].first) != back)
+                    throw IoError(fmt::format("{}: dataset '{}' read back differs from what "
+                                              "was written",
+                                              tmp.string(), all[q].first));
+            }
+            f.close();
+        }
+    } catch (const std::exception& e) {
+        dec.barrier();
+        std::error_code ec;
+        if (dec.rank() == 0) fs::remove(tmp, ec);
+        const bool kept = fs::exists(file, ec);
+        throw IoError(fmt::format(
+            "writing the checkpoint at step {} (t = {:.6e} s) failed: {}. The unfinished file "
+            "was removed; {}",
+            s.step, s.time, e.what(),
+            kept ? fmt::format("the last good checkpoint is {} (unchanged)", file.string())
+                 : std::string("there is no earlier checkpoint of this run")));
     }
     dec.barrier();
-    if (dec.rank() == 0) fs::rename(tmp, file);
+    int failed = 0;
+    if (dec.rank() == 0) {
+        std::error_code ec;
+        fs::rename(tmp, file, ec);
+        failed = ec ? ec.value() : 0;
+    }
+    MPI_Bcast(&failed, 1, MPI_INT, 0, dec.comm());
+    if (failed)
+        throw IoError(fmt::format("renaming {} to {} failed ({}); the verified checkpoint is "
+                                  "{}",
+                                  tmp.string(), file.string(), std::strerror(failed),
+                                  tmp.string()));
     dec.barrier();
 }
 
 void read_checkpoint(const fs::path& file, const Decomposition& dec, FlowState& s, RunClock& clock,
-                     const std::vector<Body*>& bodies) {
-    if (!fs::exists(file))
-        throw InputError(fmt::format("--restart {}: no such checkpoint file", file.string()));
-    Hdf5File f(file, Hdf5File::Mode::Read, dec);
-    if (int(f.read_attribute("dim")) != dec.dim())
-        throw InputError(fmt::format("--restart {}: checkpoint is {}D but the case is {}D",
-                                     file.string(), int(f.read_attribute("dim")), dec.dim()));
-    for (int c = 0; c < s.u.dim; ++c) {
-        f.read_block(velocity_name(c), s.u[c]);
-        f.read_block(history_name(c), s.adv_prev[c]);
-    }
-    f.read_block("pressure", s.p);
-    f.read_block("viscosity", s.mu);
-    s.time = f.read_attribute("time");
-    s.step = long(f.read_attribute("step"));
-    s.dt_prev = f.read_attribute("dt_prev");
-    clock.next_fields_time = f.read_attribute("next_fields_time");
-    for (Body* b : bodies) {
-        const std::string base = "body_" + b->name() + "_";
-        Box box;
-        for (int d = 0; d < 3; ++d) {
-            box.lo[d] = int(f.read_attribute(base + "lo" + std::to_string(d)));
-            box.hi[d] = int(f.read_attribute(base + "hi" + std::to_string(d)));
+                     const std::vector<Body*>& bodies, const std::string& fingerprint) {
+    const std::string at = "--restart " + file.string();
+    if (!fs::exists(file)) throw InputError(at + ": no such checkpoint file");
+    try {
+        Hdf5File f(file, Hdf5File::Mode::Read, dec);
+        if (!f.has_attribute("format") || !f.has_string_attribute("case_fingerprint", "integrity"))
+            throw InputError(at + ": not a checkpoint with checksums (written by an efsi "
+                                  "older than checkpoint format 2, or not a checkpoint)");
+        if (f.read_attribute("format") != format_version)
+            throw InputError(fmt::format("{}: checkpoint format {} is not {}", at,
+                                         f.read_attribute("format"), format_version));
+        const std::string stored = f.read_string_attribute("case_fingerprint", "integrity");
+        if (!fingerprint.empty() && stored != fingerprint)
+            throw InputError(fmt::format("{}: the checkpoint was written for another case ({})", at,
+                                         fingerprint_difference(stored, fingerprint)));
+        if (int(f.read_attribute("dim")) != dec.dim())
+            throw InputError(fmt::format("{}: checkpoint is {}D but the case is {}D", at,
+                                         int(f.read_attribute("dim")), dec.dim()));
+        std::vector<std::pair<std::string, double>> attrs;
+        for (const char* k : {"time", "step", "dt_prev", "dim", "next_fields_time", "format"})
+            attrs.emplace_back(k, f.read_attribute(k));
+        for (Body* b : bodies) {
+            const std::string base = "body_" + b->name() + "_";
+            for (int d = 0; d < 3; ++d)
+                for (const char* side : {"lo", "hi"}) {
+                    const std::string k = base + side + std::to_string(d);
+                    attrs.emplace_back(k, f.read_attribute(k));
+                }
         }
-        b->allocate(make_patch(box, dec));
-        f.read_block(base + "phi", b->phi());
-        for (Field& c : b->tensor().comp)
-            f.read_block("body_" + c.name(), c);
-        if (Field* kr = b->reference_curvature()) f.read_block("body_" + kr->name(), *kr);
+        // Same order as written: lo0 hi0 lo1 hi1 ...
+        if (hex(attributes_checksum(attrs, stored)) !=
+            f.read_string_attribute("attributes_checksum", "integrity"))
+            throw InputError(at + ": the checkpoint's attributes (time, step, patches) do not "
+                                  "match their checksum: the file is corrupted");
+        for (Body* b : bodies) {
+            const std::string base = "body_" + b->name() + "_";
+            Box box;
+            for (int d = 0; d < 3; ++d) {
+                box.lo[d] = int(f.read_attribute(base + "lo" + std::to_string(d)));
+                box.hi[d] = int(f.read_attribute(base + "hi" + std::to_string(d)));
+            }
+            b->allocate(make_patch(box, dec));
+        }
+        for (const auto& [name, field] : datasets(s, bodies))
+            f.read_block(name, *field, true);
+        s.time = attrs[0].second;
+        s.step = long(attrs[1].second);
+        s.dt_prev = attrs[2].second;
+        clock.next_fields_time = attrs[4].second;
+    } catch (const std::runtime_error& e) {
+        // One mention of the file: "--restart FILE: what is wrong".
+        std::string m = e.what();
+        if (m.rfind("--restart", 0) == 0) throw InputError(m);
+        const std::string prefix = file.string() + ": ";
+        if (m.rfind(prefix, 0) == 0) m = m.substr(prefix.size());
+        throw InputError(at + ": " + m);
     }
 }
 

@@ -1,16 +1,85 @@
 #include "io/field_output.hpp"
 
+#include "core/error.hpp"
 #include "io/hdf5_file.hpp"
 #include "operators/flow_operators.hpp"
 
 #include <fmt/core.h>
-#include <fmt/os.h>
 
+#include <cerrno>
+#include <cstring>
 #include <fstream>
 
 namespace efsi {
 
 namespace fs = std::filesystem;
+
+namespace {
+/// Publish `tmp` as `file` on rank 0 once every rank got there; on a failure anywhere the
+/// tmp file is removed and IoError thrown on every rank.
+void publish(const Decomposition& dec, const fs::path& tmp, const fs::path& file) {
+    int failed = 0;
+    if (dec.rank() == 0) {
+        std::error_code ec;
+        fs::rename(tmp, file, ec);
+        failed = ec ? ec.value() : 0;
+        if (failed) fs::remove(tmp, ec);
+    }
+    MPI_Bcast(&failed, 1, MPI_INT, 0, dec.comm());
+    if (failed)
+        throw IoError(fmt::format("renaming {} to {} failed ({})", tmp.string(), file.string(),
+                                  std::strerror(failed)));
+}
+
+/// Write an HDF5 file through `body` into `<file>.tmp`, closed and checked, then rename it:
+/// a failed write leaves no file behind (and no partial one under the final name).
+template <class F>
+void write_h5(const Decomposition& dec, const fs::path& file, std::uint64_t bytes, F&& body) {
+    const fs::path tmp = file.string() + ".tmp";
+    try {
+        Hdf5File f(tmp, Hdf5File::Mode::Create, dec, bytes);
+        body(f);
+        f.close();
+    } catch (...) {
+        dec.barrier();
+        std::error_code ec;
+        if (dec.rank() == 0) fs::remove(tmp, ec);
+        throw;
+    }
+    dec.barrier();
+    publish(dec, tmp, file);
+}
+
+/// Units and centring of the snapshot datasets (stored as their attributes).
+std::vector<std::pair<std::string, std::string>> meta(const std::string& units,
+                                                      const std::string& centring) {
+    return {{"units", units}, {"centring", centring}};
+}
+
+/// Write a small text file on rank 0 via a tmp file; IoError (on rank 0) if it failed.
+void write_text(const fs::path& file, const std::string& text, bool append) {
+    if (append) {
+        std::ofstream out(file, std::ios::app);
+        out << text;
+        out.close();
+        if (!out)
+            throw IoError(
+                fmt::format("{}: write failed ({})", file.string(), std::strerror(errno)));
+        return;
+    }
+    const fs::path tmp = file.string() + ".tmp";
+    std::ofstream out(tmp);
+    out << text;
+    out.close();
+    if (!out) {
+        const int e = errno;
+        std::error_code ec;
+        fs::remove(tmp, ec);
+        throw IoError(fmt::format("{}: write failed ({})", file.string(), std::strerror(e)));
+    }
+    fs::rename(tmp, file);
+}
+} // namespace
 
 FieldOutput::FieldOutput(const fs::path& output_dir, const Decomposition& dec)
     : dir_(output_dir / "fields"), dec_(dec) {
@@ -21,7 +90,10 @@ FieldOutput::FieldOutput(const fs::path& output_dir, const Decomposition& dec)
     Entry e;
     while (in >> e.step >> e.time >> e.file)
         index_.push_back(e);
-    if (!fs::exists(dir_ / "mesh.h5")) write_mesh();
+    // The mesh is written with the first snapshot (so that a failure is reported by the
+    // run like any other write failure).
+    mesh_needed_ = !fs::exists(dir_ / "mesh.h5");
+    dec.barrier();
 }
 
 void FieldOutput::write_mesh() {
@@ -56,17 +128,31 @@ void FieldOutput::write_mesh() {
             topo.insert(topo.end(), {node(I, J, K + 1), node(I + 1, J, K + 1),
                                      node(I + 1, J + 1, K + 1), node(I, J + 1, K + 1)});
     });
-    Hdf5File f(dir_ / "mesh.h5", Hdf5File::Mode::Create, dec_);
-    f.write_flat("geometry", nodes, noff, ncount, 3, xyz);
-    f.write_flat("topology", g.cells, b.offset, b.cells, dim == 3 ? 8 : 4, topo);
+    std::uint64_t npoints = 1;
+    for (int d = 0; d < dim; ++d)
+        npoints *= std::uint64_t(nodes[d]);
+    const std::uint64_t bytes =
+        npoints * 3 * 8 + std::uint64_t(g.total_cells()) * (dim == 3 ? 8 : 4) * 8;
+    write_h5(dec_, dir_ / "mesh.h5", bytes, [&](Hdf5File& f) {
+        f.write_flat("geometry", nodes, noff, ncount, 3, xyz);
+        f.write_dataset_attributes("geometry", meta("m", "node"));
+        f.write_flat("topology", g.cells, b.offset, b.cells, dim == 3 ? 8 : 4, topo);
+    });
 }
 
 void FieldOutput::write(const FlowState& s, const std::vector<const Body*>& bodies) {
     const GlobalGrid& g = dec_.grid();
     const LocalBlock& b = dec_.block();
     const std::string name = fmt::format("fields_{:08d}.h5", s.step);
-    {
-        Hdf5File f(dir_ / name, Hdf5File::Mode::Create, dec_);
+    if (mesh_needed_) {
+        write_mesh();
+        mesh_needed_ = false;
+    }
+    std::vector<std::string> extra;
+    std::uint64_t per_cell = 1 + 3 + std::uint64_t(s.u.dim); // pressure, velocity, faces
+    for (const Body* body : bodies)
+        per_cell += 1 + body->tensor().comp.size() + (body->reference_curvature() ? 1 : 0);
+    write_h5(dec_, dir_ / name, per_cell * std::uint64_t(g.total_cells()) * 8, [&](Hdf5File& f) {
         std::vector<double> p, vel;
         for_each_cell(b.cells, [&](int i, int j, int k) {
             p.push_back(s.p(i, j, k));
@@ -74,15 +160,20 @@ void FieldOutput::write(const FlowState& s, const std::vector<const Body*>& bodi
                 vel.push_back(c < s.u.dim ? cell_centre_velocity(s.u, c, {i, j, k}) : 0.0);
         });
         f.write_flat("pressure", g.cells, b.offset, b.cells, 1, p);
+        f.write_dataset_attributes("pressure", meta("Pa", "cell"));
         f.write_flat("velocity", g.cells, b.offset, b.cells, 3, vel);
+        f.write_dataset_attributes("velocity", meta("m/s", "cell"));
         const char* names[3] = {"faces_u", "faces_v", "faces_w"};
-        for (int c = 0; c < s.u.dim; ++c)
+        const char* faces[3] = {"x_face", "y_face", "z_face"};
+        for (int c = 0; c < s.u.dim; ++c) {
             f.write_block(names[c], s.u[c]);
+            f.write_dataset_attributes(names[c], meta("m/s", faces[c]));
+        }
         f.write_attribute("time", s.time);
-        f.write_attribute("step", double(s.step));
-        extra_names_.clear();
+        f.write_integer_attribute("step", s.step);
         for (const Body* body : bodies) {
-            auto write_patch_field = [&](const std::string& dataset, const Field& fld) {
+            auto write_patch_field = [&](const std::string& dataset, const Field& fld,
+                                         const std::string& units) {
                 std::vector<double> v;
                 if (!body->patch().empty())
                     for_each_in(fld.owned(),
@@ -92,20 +183,34 @@ void FieldOutput::write(const FlowState& s, const std::vector<const Body*>& bodi
                                b.offset[2] + lb.lo[2]};
                 f.write_flat(dataset, g.cells, off,
                              body->patch().empty() ? Int3{0, 0, 0} : lb.size(), 1, v);
-                extra_names_.push_back(dataset);
+                f.write_dataset_attributes(dataset, meta(units, "cell"));
+                extra.push_back(dataset);
             };
-            write_patch_field("phi_" + body->name(), body->phi());
+            write_patch_field("phi_" + body->name(), body->phi(), "1");
             for (const Field& c : body->tensor().comp)
-                write_patch_field(c.name(), c);
-            if (const Field* kr = body->reference_curvature()) write_patch_field(kr->name(), *kr);
+                write_patch_field(c.name(), c, "1");
+            if (const Field* kr = body->reference_curvature())
+                write_patch_field(kr->name(), *kr, "1/m");
+        }
+    });
+    extra_names_ = extra;
+    index_.push_back({s.step, s.time, name});
+    // index.txt and fields.xdmf on rank 0; the outcome is shared so that every rank stops.
+    std::string failure;
+    if (dec_.rank() == 0) {
+        try {
+            write_text(dir_ / "index.txt", fmt::format("{} {:.17g} {}\n", s.step, s.time, name),
+                       true);
+            write_xdmf();
+        } catch (const std::exception& e) {
+            failure = e.what();
         }
     }
-    index_.push_back({s.step, s.time, name});
-    if (dec_.rank() == 0) {
-        std::ofstream idx(dir_ / "index.txt", std::ios::app);
-        idx << fmt::format("{} {:.17g} {}\n", s.step, s.time, name);
-        write_xdmf();
-    }
+    int failed = failure.empty() ? 0 : 1;
+    MPI_Bcast(&failed, 1, MPI_INT, 0, dec_.comm());
+    if (failed)
+        throw IoError(dec_.rank() == 0 ? failure
+                                       : std::string("writing the snapshot index failed"));
 }
 
 void FieldOutput::write_xdmf() const {
@@ -116,46 +221,92 @@ void FieldOutput::write_xdmf() const {
         npoints *= g.cells[d] + 1;
     const int per = g.dim == 3 ? 8 : 4;
     const char* topo = g.dim == 3 ? "Hexahedron" : "Quadrilateral";
-    const fs::path tmp = dir_ / "fields.xdmf.tmp";
+    std::string text;
     {
-        auto out = fmt::output_file(tmp.string());
-        out.print("<?xml version=\"1.0\"?>\n<Xdmf Version=\"3.0\" "
-                  "xmlns:xi=\"https://www.w3.org/2001/XInclude\">\n<Domain>\n");
-        out.print("<Grid Name=\"mesh\" GridType=\"Uniform\">\n"
-                  "  <Topology TopologyType=\"{0}\" NumberOfElements=\"{1}\" "
-                  "NodesPerElement=\"{2}\">\n"
-                  "    <DataItem Dimensions=\"{1} {2}\" NumberType=\"Int\" Precision=\"8\" "
-                  "Format=\"HDF\">mesh.h5:/topology</DataItem>\n  </Topology>\n"
-                  "  <Geometry GeometryType=\"XYZ\">\n"
-                  "    <DataItem Dimensions=\"{3} 3\" NumberType=\"Float\" Precision=\"8\" "
-                  "Format=\"HDF\">mesh.h5:/geometry</DataItem>\n  </Geometry>\n</Grid>\n",
-                  topo, ncells, per, npoints);
-        out.print("<Grid Name=\"fields\" GridType=\"Collection\" CollectionType=\"Temporal\">\n");
+        text += fmt::format("<?xml version=\"1.0\"?>\n<Xdmf Version=\"3.0\" "
+                            "xmlns:xi=\"http://www.w3.org/2001/XInclude\">\n<Domain>\n");
+        text +=
+            fmt::format("<Grid Name=\"mesh\" GridType=\"Uniform\">\n"
+                        "  <Topology TopologyType=\"{0}\" NumberOfElements=\"{1}\" "
+                        "NodesPerElement=\"{2}\">\n"
+                        "    <DataItem Dimensions=\"{1} {2}\" NumberType=\"Int\" Precision=\"8\" "
+                        "Format=\"HDF\">mesh.h5:/topology</DataItem>\n  </Topology>\n"
+                        "  <Geometry GeometryType=\"XYZ\">\n"
+                        "    <DataItem Dimensions=\"{3} 3\" NumberType=\"Float\" Precision=\"8\" "
+                        "Format=\"HDF\">mesh.h5:/geometry</DataItem>\n  </Geometry>\n</Grid>\n",
+                        topo, ncells, per, npoints);
+        text += fmt::format(
+            "<Grid Name=\"fields\" GridType=\"Collection\" CollectionType=\"Temporal\">\n");
         auto attribute = [&](const std::string& name, const char* type, int ncomp,
                              const std::string& file) {
             const std::string dims =
                 ncomp > 1 ? fmt::format("{} {}", ncells, ncomp) : fmt::format("{}", ncells);
-            out.print("    <Attribute Name=\"{0}\" AttributeType=\"{1}\" Center=\"Cell\">\n"
-                      "      <DataItem Dimensions=\"{2}\" NumberType=\"Float\" Precision=\"8\" "
-                      "Format=\"HDF\">{3}:/{0}</DataItem>\n    </Attribute>\n",
-                      name, type, dims, file);
+            text += fmt::format(
+                "    <Attribute Name=\"{0}\" AttributeType=\"{1}\" Center=\"Cell\">\n"
+                "      <DataItem Dimensions=\"{2}\" NumberType=\"Float\" Precision=\"8\" "
+                "Format=\"HDF\">{3}:/{0}</DataItem>\n    </Attribute>\n",
+                name, type, dims, file);
         };
         for (const auto& e : index_) {
-            out.print("  <Grid Name=\"step_{}\" GridType=\"Uniform\">\n"
-                      "    <xi:include xpointer=\"xpointer(/Xdmf/Domain/Grid[@Name='mesh']/"
-                      "*[self::Topology or self::Geometry])\"/>\n"
-                      "    <Time Value=\"{:.17g}\"/>\n",
-                      e.step, e.time);
+            text +=
+                fmt::format("  <Grid Name=\"step_{}\" GridType=\"Uniform\">\n"
+                            "    <xi:include xpointer=\"xpointer(/Xdmf/Domain/Grid[@Name='mesh']/"
+                            "*[self::Topology or self::Geometry])\"/>\n"
+                            "    <Time Value=\"{:.17g}\"/>\n",
+                            e.step, e.time);
             attribute("pressure", "Scalar", 1, e.file);
             attribute("velocity", "Vector", 3, e.file);
             // Body fields: the same bodies in every snapshot of a run.
             for (const auto& n : extra_names_)
                 attribute(n, "Scalar", 1, e.file);
-            out.print("  </Grid>\n");
+            text += fmt::format("  </Grid>\n");
         }
-        out.print("</Grid>\n</Domain>\n</Xdmf>\n");
+        text += fmt::format("</Grid>\n</Domain>\n</Xdmf>\n");
     }
-    fs::rename(tmp, dir_ / "fields.xdmf");
+    write_text(dir_ / "fields.xdmf", text, false);
+    write_image_xdmf();
+}
+
+void FieldOutput::write_image_xdmf() const {
+    // The same snapshots on the uniform grid as an image (3DCoRectMesh: origin and spacing,
+    // no mesh file; a 2D run is one cell thick in z), which ParaView reads as image data.
+    // XDMF orders dimensions, origin and spacing slowest first: z, y, x.
+    const GlobalGrid& g = dec_.grid();
+    const int nx = g.cells[0], ny = g.cells[1], nz = g.cells[2];
+    std::string text =
+        fmt::format("<?xml version=\"1.0\"?>\n<Xdmf Version=\"3.0\" "
+                    "xmlns:xi=\"http://www.w3.org/2001/XInclude\">\n<Domain>\n"
+                    "<Grid Name=\"fields\" GridType=\"Collection\" CollectionType=\"Temporal\">\n");
+    const std::string geometry = fmt::format(
+        "    <Topology TopologyType=\"3DCoRectMesh\" Dimensions=\"{} {} {}\"/>\n"
+        "    <Geometry GeometryType=\"ORIGIN_DXDYDZ\">\n"
+        "      <DataItem Dimensions=\"3\" NumberType=\"Float\" Precision=\"8\" "
+        "Format=\"XML\">{:.17g} {:.17g} {:.17g}</DataItem>\n"
+        "      <DataItem Dimensions=\"3\" NumberType=\"Float\" Precision=\"8\" "
+        "Format=\"XML\">{:.17g} {:.17g} {:.17g}</DataItem>\n    </Geometry>\n",
+        nz + 1, ny + 1, nx + 1, g.origin[2], g.origin[1], g.origin[0], g.dx(2), g.dx(1), g.dx(0));
+    auto attribute = [&](const std::string& name, const char* type, int ncomp,
+                         const std::string& file) {
+        const std::string dims = ncomp > 1 ? fmt::format("{} {} {} {}", nz, ny, nx, ncomp)
+                                           : fmt::format("{} {} {}", nz, ny, nx);
+        text += fmt::format("    <Attribute Name=\"{0}\" AttributeType=\"{1}\" Center=\"Cell\">\n"
+                            "      <DataItem Dimensions=\"{2}\" NumberType=\"Float\" "
+                            "Precision=\"8\" Format=\"HDF\">{3}:/{0}</DataItem>\n"
+                            "    </Attribute>\n",
+                            name, type, dims, file);
+    };
+    for (const auto& e : index_) {
+        text += fmt::format("  <Grid Name=\"step_{}\" GridType=\"Uniform\">\n{}"
+                            "    <Time Value=\"{:.17g}\"/>\n",
+                            e.step, geometry, e.time);
+        attribute("pressure", "Scalar", 1, e.file);
+        attribute("velocity", "Vector", 3, e.file);
+        for (const auto& n : extra_names_)
+            attribute(n, "Scalar", 1, e.file);
+        text += "  </Grid>\n";
+    }
+    text += "</Grid>\n</Domain>\n</Xdmf>\n";
+    write_text(dir_ / "fields_image.xdmf", text, false);
 }
 
 } // namespace efsi

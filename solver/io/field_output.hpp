@@ -1,12 +1,19 @@
 // Field snapshots: one parallel-HDF5 file per snapshot under <output>/fields/, the mesh
 // once in mesh.h5, and fields.xdmf (XDMF 3, temporal collection) that ParaView opens and
 // meshio's TimeSeriesReader reads. The mesh is written as explicit hexahedra
-// (quadrilaterals in 2D) because meshio reads only unstructured topologies.
+// (quadrilaterals in 2D) because meshio reads only unstructured topologies (meshio 5 has
+// no 2DCoRectMesh / 3DCoRectMesh). fields_image.xdmf holds the same snapshots on a
+// 3DCoRectMesh (origin and spacing; 2D runs one cell thick in z), which ParaView's XDMF
+// readers open as image data.
 //
 // Each snapshot holds cell-centred `pressure` and `velocity` (3 components; w = 0 in
-// 2D), the raw staggered components `faces/u`, `faces/v` (`faces/w`) as [nz][ny][nx]
-// arrays (index i is the low face of cell i), attributes `time` and `step`, and for
-// each body its phi and tensor components.
+// 2D), the raw staggered components `faces_u`, `faces_v` (`faces_w`) as [nz][ny][nx]
+// arrays (index i is the low face of cell i), attributes `time` (float) and `step`
+// (integer), and for each body its phi and tensor components. Every dataset carries the
+// string attributes `units` and `centring` (cell, node, x_face, y_face, z_face).
+//
+// Every file is written to `<name>.tmp` and renamed once complete; a failed write (disk
+// full) removes the tmp file and throws IoError on every rank.
 #pragma once
 
 #include "bodies/body.hpp"
@@ -29,6 +36,7 @@ class FieldOutput {
   private:
     void write_mesh();
     void write_xdmf() const;
+    void write_image_xdmf() const;
 
     std::filesystem::path dir_;
     const Decomposition& dec_;
@@ -39,6 +47,7 @@ class FieldOutput {
     };
     std::vector<std::string> extra_names_; ///< cell fields of bodies, in every snapshot
     std::vector<Entry> index_;
+    bool mesh_needed_ = false;
 };
 
 } // namespace efsi

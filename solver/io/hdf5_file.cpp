@@ -4,9 +4,16 @@
 
 #include <fmt/core.h>
 
+#include <fcntl.h>
+#include <unistd.h>
+
 #include <algorithm>
+#include <cerrno>
+#include <cstring>
 
 namespace efsi {
+
+bool hdf5_state_broken = false;
 
 namespace {
 /// Dataset creation properties that write zeros where no rank writes (parallel HDF5 leaves
@@ -31,27 +38,110 @@ class ZeroFill {
 ZeroFill zero_fill(hid_t type) {
     return ZeroFill(type);
 }
+
+std::uint64_t mix64(std::uint64_t x) {
+    x += 0x9e3779b97f4a7c15ULL;
+    x = (x ^ (x >> 30)) * 0xbf58476d1ce4e5b9ULL;
+    x = (x ^ (x >> 27)) * 0x94d049bb133111ebULL;
+    return x ^ (x >> 31);
+}
+
+/// A fixed-length string type of n bytes (n >= 1).
+hid_t string_type(std::size_t n) {
+    hid_t t = H5Tcopy(H5T_C_S1);
+    H5Tset_size(t, std::max<std::size_t>(1, n));
+    H5Tset_strpad(t, H5T_STR_NULLPAD);
+    return t;
+}
+
+/// Rank 0 reserves `bytes` for a new file (posix_fallocate): on a full disk or under a
+/// file-size limit the write is refused before HDF5 starts it (HDF5 cannot close a file
+/// whose metadata it failed to write). Returns 0 or the errno.
+int reserve(const std::filesystem::path& path, std::uint64_t bytes) {
+    const int fd = ::open(path.c_str(), O_WRONLY | O_CREAT | O_TRUNC, 0644);
+    if (fd < 0) return errno;
+    const int rc = bytes > 0 ? posix_fallocate(fd, 0, off_t(bytes)) : 0;
+    ::close(fd);
+    if (rc != 0) ::unlink(path.c_str());
+    return rc;
+}
+
+int saved_errno(bool ok) {
+    return ok ? 0 : (errno != 0 ? errno : -1);
+}
 } // namespace
 
-Hdf5File::Hdf5File(const std::filesystem::path& path, Mode mode, const Decomposition& dec)
-    : dec_(dec) {
+Hdf5File::Hdf5File(const std::filesystem::path& path, Mode mode, const Decomposition& dec,
+                   std::uint64_t expected_bytes)
+    : path_(path), dec_(dec) {
+    // Failures are reported by the checks below, once, with the file named; HDF5's own
+    // error stacks (thousands of lines on a full disk) are not printed.
+    H5Eset_auto2(H5E_DEFAULT, nullptr, nullptr);
+    if (mode == Mode::Create && expected_bytes > 0) {
+        int err = dec.rank() == 0 ? reserve(path, expected_bytes + expected_bytes / 50 + 65536) : 0;
+        MPI_Bcast(&err, 1, MPI_INT, 0, dec.comm());
+        if (err != 0)
+            throw IoError(fmt::format("{}: no room for its {:.3g} MB ({})", path.string(),
+                                      double(expected_bytes) / 1e6, std::strerror(err)));
+    }
     hid_t fapl = H5Pcreate(H5P_FILE_ACCESS);
     H5Pset_fapl_mpio(fapl, dec.comm(), MPI_INFO_NULL);
+    errno = 0;
     if (mode == Mode::Create)
         file_ = H5Fcreate(path.c_str(), H5F_ACC_TRUNC, H5P_DEFAULT, fapl);
     else
         file_ = H5Fopen(path.c_str(), H5F_ACC_RDONLY, fapl);
     H5Pclose(fapl);
-    if (file_ < 0)
-        throw RunError(fmt::format("{}: cannot {} HDF5 file", path.string(),
-                                   mode == Mode::Create ? "create" : "open"));
     xfer_ = H5Pcreate(H5P_DATASET_XFER);
     H5Pset_dxpl_mpio(xfer_, H5FD_MPIO_COLLECTIVE);
+    try {
+        agree(file_ >= 0, mode == Mode::Create ? "creating the file"
+                                               : "opening the file (not a readable HDF5 "
+                                                 "file, or truncated)");
+    } catch (...) {
+        H5Pclose(xfer_);
+        xfer_ = -1;
+        if (file_ >= 0) H5Fclose(file_);
+        file_ = -1;
+        throw;
+    }
 }
 
 Hdf5File::~Hdf5File() {
     if (xfer_ >= 0) H5Pclose(xfer_);
-    if (file_ >= 0) H5Fclose(file_);
+    if (file_ >= 0) {
+        // After a failed write some objects may still be open: close them first, so that
+        // the file itself can close (HDF5 would otherwise try again at MPI_Finalize).
+        const ssize_t n = H5Fget_obj_count(file_, H5F_OBJ_ALL & ~H5F_OBJ_FILE);
+        if (n > 0) {
+            std::vector<hid_t> ids(static_cast<std::size_t>(n));
+            H5Fget_obj_ids(file_, H5F_OBJ_ALL & ~H5F_OBJ_FILE, std::size_t(n), ids.data());
+            for (hid_t id : ids)
+                while (H5Iis_valid(id) > 0 && H5Idec_ref(id) > 0) {
+                }
+        }
+        if (H5Fclose(file_) < 0) hdf5_state_broken = true;
+    }
+}
+
+void Hdf5File::agree(bool ok, const std::string& what) const {
+    int local = saved_errno(ok), worst = 0, any = local != 0 ? 1 : 0, failed = 0;
+    MPI_Allreduce(&any, &failed, 1, MPI_INT, MPI_MAX, dec_.comm());
+    if (!failed) return;
+    MPI_Allreduce(&local, &worst, 1, MPI_INT, MPI_MAX, dec_.comm());
+    throw IoError(fmt::format("{}: {} failed{}", path_.string(), what,
+                              worst > 0 ? std::string(" (") + std::strerror(worst) + ")" : ""));
+}
+
+void Hdf5File::close() {
+    if (file_ < 0) return;
+    errno = 0;
+    const herr_t flushed = H5Fflush(file_, H5F_SCOPE_GLOBAL);
+    const int e = errno;
+    const herr_t closed = H5Fclose(file_);
+    file_ = -1;
+    errno = e;
+    agree(flushed >= 0 && closed >= 0, "closing the file (writing its last blocks)");
 }
 
 void Hdf5File::write_flat_any(const std::string& name, const Int3& n, const Int3& o, const Int3& c,
@@ -60,8 +150,16 @@ void Hdf5File::write_flat_any(const std::string& name, const Int3& n, const Int3
     const int rank = ncomp > 1 ? 2 : 1;
     const hsize_t dims[2] = {total, hsize_t(ncomp)};
     hid_t fspace = H5Screate_simple(rank, dims, nullptr);
+    errno = 0;
     hid_t dset =
         H5Dcreate2(file_, name.c_str(), type, fspace, H5P_DEFAULT, zero_fill(type), H5P_DEFAULT);
+    try {
+        agree(dset >= 0, fmt::format("creating dataset '{}'", name));
+    } catch (...) {
+        if (dset >= 0) H5Dclose(dset);
+        H5Sclose(fspace);
+        throw;
+    }
     // The block is one strided hyperslab per z plane: rows of c[0] points, stride n[0].
     H5Sselect_none(fspace);
     for (int k = 0; k < c[2]; ++k) {
@@ -73,10 +171,14 @@ void Hdf5File::write_flat_any(const std::string& name, const Int3& n, const Int3
     }
     const hsize_t local = hsize_t(c[0]) * c[1] * c[2] * ncomp;
     hid_t mspace = H5Screate_simple(1, &local, nullptr);
-    H5Dwrite(dset, type, mspace, fspace, xfer_, values);
+    errno = 0;
+    const herr_t w = H5Dwrite(dset, type, mspace, fspace, xfer_, values);
+    const int e = errno;
     H5Sclose(mspace);
     H5Sclose(fspace);
-    H5Dclose(dset);
+    const herr_t cl = H5Dclose(dset);
+    errno = e;
+    agree(w >= 0 && cl >= 0, fmt::format("writing dataset '{}'", name));
 }
 
 void Hdf5File::write_flat(const std::string& name, const Int3& n, const Int3& o, const Int3& c,
@@ -117,36 +219,134 @@ struct BoxSpace {
 };
 } // namespace
 
-void Hdf5File::write_block(const std::string& name, const Field& f) {
+std::uint64_t Hdf5File::block_checksum(const Decomposition& dec, const Field& f,
+                                       const std::vector<double>& values) {
+    const GlobalGrid& g = dec.grid();
+    const LocalBlock& b = dec.block();
+    std::uint64_t sum = 0;
+    std::size_t c = 0;
+    for_each_in(f.owned(), [&](int i, int j, int k) {
+        const std::uint64_t index = (std::uint64_t(b.offset[2] + k) * std::uint64_t(g.cells[1]) +
+                                     std::uint64_t(b.offset[1] + j)) *
+                                        std::uint64_t(g.cells[0]) +
+                                    std::uint64_t(b.offset[0] + i);
+        std::uint64_t bits = 0;
+        std::memcpy(&bits, &values[c++], sizeof bits);
+        sum += mix64(mix64(index) ^ bits);
+    });
+    std::uint64_t total = 0;
+    MPI_Allreduce(&sum, &total, 1, MPI_UINT64_T, MPI_SUM, dec.comm());
+    return total;
+}
+
+std::uint64_t Hdf5File::write_block(const std::string& name, const Field& f) {
     BoxSpace s(dec_, f);
     std::vector<double> buf;
     buf.reserve(std::size_t(std::max<std::int64_t>(0, f.owned().count())));
     for_each_in(f.owned(), [&](int i, int j, int k) { buf.push_back(f(i, j, k)); });
+    errno = 0;
     hid_t dset = H5Dcreate2(file_, name.c_str(), H5T_NATIVE_DOUBLE, s.fspace, H5P_DEFAULT,
                             zero_fill(H5T_NATIVE_DOUBLE), H5P_DEFAULT);
-    H5Dwrite(dset, H5T_NATIVE_DOUBLE, s.mspace, s.fspace, xfer_, buf.data());
-    H5Dclose(dset);
+    try {
+        agree(dset >= 0, fmt::format("creating dataset '{}'", name));
+    } catch (...) {
+        if (dset >= 0) H5Dclose(dset);
+        throw;
+    }
+    errno = 0;
+    const herr_t w = H5Dwrite(dset, H5T_NATIVE_DOUBLE, s.mspace, s.fspace, xfer_, buf.data());
+    int e = errno;
+    const std::uint64_t sum = block_checksum(dec_, f, buf);
+    hid_t space = H5Screate(H5S_SCALAR);
+    hid_t attr = H5Acreate2(dset, "checksum", H5T_NATIVE_UINT64, space, H5P_DEFAULT, H5P_DEFAULT);
+    const herr_t wa = attr >= 0 ? H5Awrite(attr, H5T_NATIVE_UINT64, &sum) : -1;
+    if (attr >= 0) H5Aclose(attr);
+    H5Sclose(space);
+    if (e == 0) e = errno;
+    const herr_t cl = H5Dclose(dset);
+    errno = e;
+    agree(w >= 0 && wa >= 0 && cl >= 0, fmt::format("writing dataset '{}'", name));
+    return sum;
 }
 
-void Hdf5File::read_block(const std::string& name, Field& f) {
-    if (!has(name)) throw RunError(fmt::format("checkpoint has no dataset '{}'", name));
+std::uint64_t Hdf5File::stored_checksum(const std::string& name) const {
+    if (!has(name)) return 0;
     hid_t dset = H5Dopen2(file_, name.c_str(), H5P_DEFAULT);
+    std::uint64_t value = 0;
+    if (dset >= 0 && H5Aexists(dset, "checksum") > 0) {
+        hid_t attr = H5Aopen(dset, "checksum", H5P_DEFAULT);
+        if (attr >= 0) {
+            if (H5Aread(attr, H5T_NATIVE_UINT64, &value) < 0) value = 0;
+            H5Aclose(attr);
+        }
+    }
+    if (dset >= 0) H5Dclose(dset);
+    return value;
+}
+
+namespace {
+/// Read the owned box of `f`'s layout from `dset` into `buf`; false on a failed read.
+bool read_owned(const Decomposition& dec, hid_t file, hid_t xfer, const std::string& name,
+                const Field& f, std::vector<double>& buf, std::string& why) {
+    hid_t dset = H5Dopen2(file, name.c_str(), H5P_DEFAULT);
+    if (dset < 0) {
+        why = fmt::format("dataset '{}' cannot be opened", name);
+        return false;
+    }
     hid_t space = H5Dget_space(dset);
     hsize_t dims[3] = {0, 0, 0};
-    H5Sget_simple_extent_dims(space, dims, nullptr);
-    H5Sclose(space);
-    const GlobalGrid& g = dec_.grid();
-    if (dims[0] != hsize_t(g.cells[2]) || dims[1] != hsize_t(g.cells[1]) ||
+    const int nd = space >= 0 ? H5Sget_simple_extent_ndims(space) : -1;
+    if (nd == 3) H5Sget_simple_extent_dims(space, dims, nullptr);
+    if (space >= 0) H5Sclose(space);
+    const GlobalGrid& g = dec.grid();
+    if (nd != 3 || dims[0] != hsize_t(g.cells[2]) || dims[1] != hsize_t(g.cells[1]) ||
         dims[2] != hsize_t(g.cells[0])) {
         H5Dclose(dset);
-        throw InputError(fmt::format("dataset '{}' is {}x{}x{} but the case grid is {}x{}x{}", name,
-                                     dims[2], dims[1], dims[0], g.cells[0], g.cells[1],
-                                     g.cells[2]));
+        why = fmt::format("dataset '{}' is {}x{}x{} but the case grid is {}x{}x{}", name, dims[2],
+                          dims[1], dims[0], g.cells[0], g.cells[1], g.cells[2]);
+        return false;
     }
-    BoxSpace s(dec_, f);
-    std::vector<double> buf(std::size_t(std::max<std::int64_t>(0, f.owned().count())));
-    H5Dread(dset, H5T_NATIVE_DOUBLE, s.mspace, s.fspace, xfer_, buf.data());
+    BoxSpace s(dec, f);
+    buf.assign(std::size_t(std::max<std::int64_t>(0, f.owned().count())), 0.0);
+    const herr_t r = H5Dread(dset, H5T_NATIVE_DOUBLE, s.mspace, s.fspace, xfer, buf.data());
     H5Dclose(dset);
+    if (r < 0) {
+        why = fmt::format("dataset '{}' cannot be read (truncated file?)", name);
+        return false;
+    }
+    return true;
+}
+} // namespace
+
+std::uint64_t Hdf5File::read_checksum(const std::string& name, const Field& f) {
+    agree(has(name), fmt::format("finding dataset '{}'", name));
+    std::vector<double> buf;
+    std::string why;
+    const bool ok = read_owned(dec_, file_, xfer_, name, f, buf, why);
+    agree(ok, ok ? "" : why);
+    return block_checksum(dec_, f, buf);
+}
+
+void Hdf5File::read_block(const std::string& name, Field& f, bool require_checksum) {
+    if (!has(name)) throw InputError(fmt::format("{}: has no dataset '{}'", path_.string(), name));
+    std::vector<double> buf;
+    std::string why;
+    const bool ok = read_owned(dec_, file_, xfer_, name, f, buf, why);
+    int bad = ok ? 0 : 1, any = 0;
+    MPI_Allreduce(&bad, &any, 1, MPI_INT, MPI_MAX, dec_.comm());
+    if (any)
+        throw InputError(fmt::format("{}: {}", path_.string(),
+                                     why.empty() ? "dataset '" + name + "' cannot be read" : why));
+    const std::uint64_t stored = stored_checksum(name);
+    if (stored != 0 || require_checksum) {
+        const std::uint64_t sum = block_checksum(dec_, f, buf);
+        if (stored == 0)
+            throw InputError(fmt::format("{}: dataset '{}' has no checksum", path_.string(), name));
+        if (sum != stored)
+            throw InputError(fmt::format("{}: dataset '{}' does not match its checksum (stored "
+                                         "{:016x}, data {:016x}): the file is corrupted",
+                                         path_.string(), name, stored, sum));
+    }
     std::size_t c = 0;
     for_each_in(f.owned(), [&](int i, int j, int k) { f(i, j, k) = buf[c++]; });
 }
@@ -155,22 +355,115 @@ bool Hdf5File::has(const std::string& name) const {
     return H5Lexists(file_, name.c_str(), H5P_DEFAULT) > 0;
 }
 
+bool Hdf5File::has_attribute(const std::string& name) const {
+    return H5Aexists(file_, name.c_str()) > 0;
+}
+
 void Hdf5File::write_attribute(const std::string& name, double value) {
     hid_t space = H5Screate(H5S_SCALAR);
+    errno = 0;
     hid_t attr =
         H5Acreate2(file_, name.c_str(), H5T_NATIVE_DOUBLE, space, H5P_DEFAULT, H5P_DEFAULT);
-    H5Awrite(attr, H5T_NATIVE_DOUBLE, &value);
-    H5Aclose(attr);
+    const herr_t w = attr >= 0 ? H5Awrite(attr, H5T_NATIVE_DOUBLE, &value) : -1;
+    if (attr >= 0) H5Aclose(attr);
     H5Sclose(space);
+    agree(w >= 0, fmt::format("writing attribute '{}'", name));
+}
+
+void Hdf5File::write_integer_attribute(const std::string& name, std::int64_t value) {
+    hid_t space = H5Screate(H5S_SCALAR);
+    errno = 0;
+    hid_t attr = H5Acreate2(file_, name.c_str(), H5T_NATIVE_INT64, space, H5P_DEFAULT, H5P_DEFAULT);
+    const herr_t w = attr >= 0 ? H5Awrite(attr, H5T_NATIVE_INT64, &value) : -1;
+    if (attr >= 0) H5Aclose(attr);
+    H5Sclose(space);
+    agree(w >= 0, fmt::format("writing attribute '{}'", name));
+}
+
+namespace {
+/// The object a string attribute goes on: the root, or group `group` (created if absent).
+hid_t attribute_owner(hid_t file, const std::string& group) {
+    if (group.empty()) return H5Oopen(file, "/", H5P_DEFAULT);
+    if (H5Lexists(file, group.c_str(), H5P_DEFAULT) > 0)
+        return H5Gopen2(file, group.c_str(), H5P_DEFAULT);
+    return H5Gcreate2(file, group.c_str(), H5P_DEFAULT, H5P_DEFAULT, H5P_DEFAULT);
+}
+} // namespace
+
+void Hdf5File::write_string_attribute(const std::string& name, const std::string& value,
+                                      const std::string& group) {
+    hid_t type = string_type(value.size());
+    hid_t space = H5Screate(H5S_SCALAR);
+    errno = 0;
+    hid_t owner = attribute_owner(file_, group);
+    hid_t attr =
+        owner >= 0 ? H5Acreate2(owner, name.c_str(), type, space, H5P_DEFAULT, H5P_DEFAULT) : -1;
+    std::string padded = value;
+    padded.resize(std::max<std::size_t>(1, value.size()), '\0');
+    const herr_t w = attr >= 0 ? H5Awrite(attr, type, padded.data()) : -1;
+    if (attr >= 0) H5Aclose(attr);
+    if (owner >= 0) H5Oclose(owner);
+    H5Sclose(space);
+    H5Tclose(type);
+    agree(w >= 0, fmt::format("writing attribute '{}'", name));
+}
+
+void Hdf5File::write_dataset_attributes(
+    const std::string& dataset, const std::vector<std::pair<std::string, std::string>>& attrs) {
+    errno = 0;
+    hid_t dset = H5Dopen2(file_, dataset.c_str(), H5P_DEFAULT);
+    bool ok = dset >= 0;
+    for (const auto& [key, value] : attrs) {
+        if (!ok) break;
+        hid_t type = string_type(value.size());
+        hid_t space = H5Screate(H5S_SCALAR);
+        hid_t attr = H5Acreate2(dset, key.c_str(), type, space, H5P_DEFAULT, H5P_DEFAULT);
+        std::string padded = value;
+        padded.resize(std::max<std::size_t>(1, value.size()), '\0');
+        ok = attr >= 0 && H5Awrite(attr, type, padded.data()) >= 0;
+        if (attr >= 0) H5Aclose(attr);
+        H5Sclose(space);
+        H5Tclose(type);
+    }
+    if (dset >= 0) H5Dclose(dset);
+    agree(ok, fmt::format("writing the attributes of dataset '{}'", dataset));
+}
+
+bool Hdf5File::has_string_attribute(const std::string& name, const std::string& group) const {
+    if (!group.empty() && H5Lexists(file_, group.c_str(), H5P_DEFAULT) <= 0) return false;
+    return H5Aexists_by_name(file_, group.empty() ? "/" : group.c_str(), name.c_str(),
+                             H5P_DEFAULT) > 0;
+}
+
+std::string Hdf5File::read_string_attribute(const std::string& name,
+                                            const std::string& group) const {
+    if (!has_string_attribute(name, group))
+        throw InputError(fmt::format("{}: has no attribute '{}'", path_.string(), name));
+    hid_t attr = H5Aopen_by_name(file_, group.empty() ? "/" : group.c_str(), name.c_str(),
+                                 H5P_DEFAULT, H5P_DEFAULT);
+    hid_t type = H5Aget_type(attr);
+    std::string value;
+    if (H5Tget_class(type) == H5T_STRING && !H5Tis_variable_str(type)) {
+        value.assign(H5Tget_size(type), '\0');
+        hid_t mem = string_type(value.size());
+        if (H5Aread(attr, mem, value.data()) < 0) value.clear();
+        H5Tclose(mem);
+    }
+    H5Tclose(type);
+    H5Aclose(attr);
+    value.erase(std::find(value.begin(), value.end(), '\0'), value.end());
+    return value;
 }
 
 double Hdf5File::read_attribute(const std::string& name) const {
     if (H5Aexists(file_, name.c_str()) <= 0)
-        throw RunError(fmt::format("checkpoint has no attribute '{}'", name));
+        throw InputError(fmt::format("{}: has no attribute '{}'", path_.string(), name));
     double value = 0;
     hid_t attr = H5Aopen(file_, name.c_str(), H5P_DEFAULT);
-    H5Aread(attr, H5T_NATIVE_DOUBLE, &value);
+    const herr_t r = H5Aread(attr, H5T_NATIVE_DOUBLE, &value);
     H5Aclose(attr);
+    if (r < 0)
+        throw InputError(fmt::format("{}: attribute '{}' cannot be read", path_.string(), name));
     return value;
 }
 

@@ -1,5 +1,10 @@
 // A parallel HDF5 file (MPI-IO, collective transfers) and block-wise dataset access:
 // each rank writes or reads the part of a global array that its block owns.
+//
+// Every call that writes or reads is checked, and its outcome agreed on by all ranks (one
+// small allreduce), so that a failure on any rank (a full disk, a file-size limit, a
+// truncated file) throws the same IoError on every rank instead of a hang, an abort, or a
+// silently incomplete file. HDF5's own error printing is turned off.
 #pragma once
 
 #include "core/types.hpp"
@@ -8,16 +13,26 @@
 
 #include <hdf5.h>
 
+#include <cstdint>
 #include <filesystem>
 #include <string>
+#include <utility>
 #include <vector>
 
 namespace efsi {
 
+/// Set when HDF5 failed to close a file after a write error: its library state is then
+/// unsafe to tear down at MPI_Finalize (main exits without it).
+extern bool hdf5_state_broken;
+
 class Hdf5File {
   public:
     enum class Mode { Create, Read };
-    Hdf5File(const std::filesystem::path& path, Mode mode, const Decomposition& dec);
+    /// With `expected_bytes` (Create), rank 0 first reserves that much room for the file
+    /// (plus 2% and 64 kB of metadata): on a full disk or under a file-size limit the
+    /// write fails cleanly with IoError before HDF5 starts.
+    Hdf5File(const std::filesystem::path& path, Mode mode, const Decomposition& dec,
+             std::uint64_t expected_bytes = 0);
     ~Hdf5File();
     Hdf5File(const Hdf5File&) = delete;
     Hdf5File& operator=(const Hdf5File&) = delete;
@@ -30,16 +45,50 @@ class Hdf5File {
                     const Int3& count, int ncomp, const std::vector<std::int64_t>& values);
     /// The owned values of a field (its block, or its patch) into a global 3D dataset
     /// [nz][ny][nx]; points outside every rank's box read back as 0 (the fill value).
-    void write_block(const std::string& name, const Field& f);
-    void read_block(const std::string& name, Field& f);
+    /// Stores the checksum of the values written (block_checksum) as the dataset's
+    /// attribute "checksum" and returns it.
+    std::uint64_t write_block(const std::string& name, const Field& f);
+    /// Read a field's owned values; when the dataset has a "checksum" attribute (or
+    /// `require_checksum`), the values read must match it, else InputError.
+    void read_block(const std::string& name, Field& f, bool require_checksum = false);
+    /// Read back the owned values of `f`'s layout from dataset `name` and return their
+    /// checksum (collective), without touching `f`.
+    std::uint64_t read_checksum(const std::string& name, const Field& f);
+    /// The checksum stored on a dataset (0 when it has none).
+    std::uint64_t stored_checksum(const std::string& name) const;
     bool has(const std::string& name) const;
 
     void write_attribute(const std::string& name, double value);
     double read_attribute(const std::string& name) const;
+    /// String attributes on the root, or on group `group` (created when absent).
+    void write_string_attribute(const std::string& name, const std::string& value,
+                                const std::string& group = "");
+    std::string read_string_attribute(const std::string& name, const std::string& group = "") const;
+    bool has_string_attribute(const std::string& name, const std::string& group = "") const;
+    bool has_attribute(const std::string& name) const;
+    /// String attributes (units, centring, ...) on an existing dataset.
+    void write_dataset_attributes(const std::string& dataset,
+                                  const std::vector<std::pair<std::string, std::string>>& attrs);
+    void write_integer_attribute(const std::string& name, std::int64_t value);
+
+    /// Close the file, checking that everything reached it (collective). The destructor
+    /// closes without checking.
+    void close();
+    const std::filesystem::path& path() const { return path_; }
+
+    /// Rank-count independent checksum of a field's owned values: the sum over points of a
+    /// 64-bit mix of (global index, value bits), summed over ranks. A flipped bit or a
+    /// changed value changes it; so does a zeroed dataset.
+    static std::uint64_t block_checksum(const Decomposition& dec, const Field& f,
+                                        const std::vector<double>& owned_values);
 
   private:
     void write_flat_any(const std::string& name, const Int3& global_points, const Int3& offset,
                         const Int3& count, int ncomp, const void* values, hid_t type);
+    /// All ranks agree on the outcome of `what`: throws IoError everywhere if it failed
+    /// anywhere (with the errno of a failing rank when it is known).
+    void agree(bool ok, const std::string& what) const;
+    std::filesystem::path path_;
     hid_t file_ = -1;
     hid_t xfer_ = -1;
     const Decomposition& dec_;

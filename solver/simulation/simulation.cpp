@@ -1,6 +1,7 @@
 #include "simulation/simulation.hpp"
 
 #include "core/error.hpp"
+#include "core/version.hpp"
 #include "flow/initial_conditions.hpp"
 #include "io/field_output.hpp"
 #include "membrane/surface_velocity.hpp"
@@ -59,6 +60,14 @@ std::string membrane_instability_hint(const Config& cfg) {
                        r, names, r);
 }
 
+/// The machine load (1, 5 and 15 minute averages of /proc/loadavg); empty when unknown.
+std::vector<double> machine_load() {
+    std::ifstream in("/proc/loadavg");
+    std::vector<double> v(3);
+    if (!(in >> v[0] >> v[1] >> v[2])) return {};
+    return v;
+}
+
 } // namespace
 
 Simulation::Simulation(const Config& config, const RunOptions& options, MPI_Comm world)
@@ -72,7 +81,20 @@ Simulation::Simulation(const Config& config, const RunOptions& options, MPI_Comm
     // Bodies exist only when the case has some: no body, no body fields, no body work.
     if (!cfg_.bodies.empty()) bodies_ = std::make_unique<BodySystem>(cfg_, *dec_, *halos_);
     if (!opt_.restart_file.empty()) {
-        read_checkpoint(opt_.restart_file, *dec_, *state_, clock_, body_list());
+        read_checkpoint(opt_.restart_file, *dec_, *state_, clock_, body_list(),
+                        case_fingerprint(cfg_));
+        // Nothing is left to do: refuse before anything is written (a summary of an empty
+        // run would replace the real one).
+        if (!(state_->time < cfg_.time.end_time * (1 - 1e-12)))
+            throw InputError(fmt::format(
+                "--restart {}: the checkpoint is at t = {:.6g} s (step {}), at or after "
+                "time.end_time = {:.6g} s; nothing to run (raise time.end_time to continue)",
+                opt_.restart_file.string(), state_->time, state_->step, cfg_.time.end_time));
+        if (state_->step >= cfg_.time.max_steps)
+            throw InputError(fmt::format(
+                "--restart {}: the checkpoint is at step {}, at or after time.max_steps = {}; "
+                "nothing to run (raise time.max_steps to continue)",
+                opt_.restart_file.string(), state_->step, cfg_.time.max_steps));
         for (Body* b : body_list())
             halos_->fill(b->phi(), b->patch());
         // The checkpoint's next snapshot time follows the fields_interval of the run that
@@ -270,9 +292,14 @@ void Simulation::write_outputs_if_due(bool final_step) {
             measure_flow(*dec_, s, cfg_.fluid.density, last_);
             last_.step = s.step;
             last_.time = s.time;
-            if (dec_->rank() == 0)
-                std::ofstream(opt_.output_dir / "diagnostics.csv", std::ios::app)
-                    << last_.csv_row() << "\n";
+            // Rank 0 appends the rows; a failed append (disk full) stops every rank.
+            int failed = 0;
+            if (dec_->rank() == 0) {
+                std::ofstream out(opt_.output_dir / "diagnostics.csv", std::ios::app);
+                out << last_.csv_row() << "\n";
+                out.close();
+                if (!out) failed = 1;
+            }
             if (bodies_) {
                 last_bodies_ = bodies_->measure();
                 if (dec_->rank() == 0) {
@@ -285,7 +312,20 @@ void Simulation::write_outputs_if_due(bool final_step) {
                                            b.clipped_volume, b.patch_cells, b.bytes, b.area,
                                            b.taylor_deformation, b.inclination_over_pi,
                                            b.tensor_trace_max);
+                    out.close();
+                    if (!out) failed = 2;
                 }
+            }
+            MPI_Bcast(&failed, 1, MPI_INT, 0, dec_->comm());
+            if (failed) {
+                const fs::path cp = opt_.output_dir / "checkpoint.h5";
+                std::error_code ec;
+                throw IoError(fmt::format(
+                    "appending to {} at step {} failed (disk full?); {}",
+                    (opt_.output_dir / (failed == 1 ? "diagnostics.csv" : "bodies.csv")).string(),
+                    s.step,
+                    fs::exists(cp, ec) ? fmt::format("the last good checkpoint is {}", cp.string())
+                                       : std::string("there is no checkpoint of this run")));
             }
         });
     }
@@ -298,7 +338,19 @@ void Simulation::write_outputs_if_due(bool final_step) {
                 std::vector<const Body*> bodies;
                 for (Body* b : body_list())
                     bodies.push_back(b);
-                fields_->write(s, bodies);
+                try {
+                    fields_->write(s, bodies);
+                } catch (const IoError& e) {
+                    const fs::path cp = opt_.output_dir / "checkpoint.h5";
+                    std::error_code ec;
+                    throw IoError(fmt::format(
+                        "writing the snapshot at step {} (t = {:.6e} s) failed: {}. The "
+                        "unfinished file was removed; {}",
+                        s.step, s.time, e.what(),
+                        fs::exists(cp, ec)
+                            ? fmt::format("the last good checkpoint is {}", cp.string())
+                            : std::string("there is no checkpoint of this run")));
+                }
             });
             if (interval > 0)
                 while (clock_.next_fields_time <= s.time + 1e-12 * interval)
@@ -308,7 +360,8 @@ void Simulation::write_outputs_if_due(bool final_step) {
     const int every = cfg_.output.checkpoint_every;
     if (final_step || (every > 0 && s.step % every == 0 && s.step > 0))
         timers_.time("checkpoint", [&] {
-            write_checkpoint(opt_.output_dir / "checkpoint.h5", *dec_, s, clock_, body_list());
+            write_checkpoint(opt_.output_dir / "checkpoint.h5", *dec_, s, clock_, body_list(),
+                             case_fingerprint(cfg_));
         });
 }
 
@@ -341,10 +394,11 @@ int Simulation::run() {
                     dec_->ranks_per_dim()[2], cfg_.grid.cells[0], cfg_.grid.cells[1],
                     cfg_.grid.cells[2], cfg_.grid.dim, cfg_.grid.dx(0)));
     log(stepper_->solver_summary());
-    if (s.step == 0) write_outputs_if_due(false);
+    load_before_ = machine_load();
     std::string status = "completed";
     std::string message;
     try {
+        if (s.step == 0) write_outputs_if_due(false);
         while (s.time < cfg_.time.end_time * (1 - 1e-12) && s.step < cfg_.time.max_steps) {
             TimeStepChoice choice =
                 choose_time_step(cfg_, *dec_, s, elastic_dt_limit_, elastic_dt_name_);
@@ -402,17 +456,32 @@ int Simulation::run() {
             }
         }
         check_stability(choose_time_step(cfg_, *dec_, s, elastic_dt_limit_, elastic_dt_name_));
+        if (s.time < cfg_.time.end_time * (1 - 1e-12)) {
+            status = "max_steps";
+            message = fmt::format("stopped at time.max_steps = {} at t = {:.6g} s of "
+                                  "time.end_time = {:.6g} s",
+                                  cfg_.time.max_steps, s.time, cfg_.time.end_time);
+        }
     } catch (const RunError& e) {
         status = "unstable";
+        message = e.what();
+    } catch (const IoError& e) {
+        status = "io_error";
         message = e.what();
     }
     const double wall =
         std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
-    write_summary(wall, status, message);
-    if (status != "completed") {
+    try {
+        write_summary(wall, status, message);
+    } catch (const std::exception& e) {
+        if (dec_->rank() == 0)
+            std::cerr << "efsi: summary.json could not be written: " << e.what() << std::endl;
+    }
+    if (status != "completed" && status != "max_steps") {
         if (dec_->rank() == 0) std::cerr << "efsi: " << message << std::endl;
         return 3;
     }
+    if (status == "max_steps") log("efsi: " + message);
     log(fmt::format("done: {} steps in {:.2f} s, {:.3e} cell updates/s; output in {}",
                     steps_this_run_, wall,
                     double(cfg_.grid.total_cells()) * steps_this_run_ / std::max(wall, 1e-9),
@@ -427,7 +496,10 @@ void Simulation::write_summary(double wall_seconds, const std::string& status,
     j["case"] = cfg_.name;
     j["status"] = status;
     j["message"] = message;
+    j["efsi_commit"] = build_commit();
     j["ranks"] = dec_->size();
+    j["load_before"] = load_before_;
+    j["load_after"] = machine_load();
     j["ranks_per_dim"] = dec_->ranks_per_dim();
     j["cells"] = cfg_.grid.total_cells();
     j["grid"] = cfg_.grid.cells;
@@ -468,7 +540,19 @@ void Simulation::write_summary(double wall_seconds, const std::string& status,
                           {"taylor_deformation", b.taylor_deformation},
                           {"inclination_over_pi", b.inclination_over_pi}});
     j["bodies"] = bodies;
-    std::ofstream(opt_.output_dir / "summary.json") << j.dump(2) << "\n";
+    // Written aside and renamed: a failed write never leaves a truncated summary.
+    const fs::path file = opt_.output_dir / "summary.json", tmp = file.string() + ".tmp";
+    {
+        std::ofstream out(tmp);
+        out << j.dump(2) << "\n";
+        out.close();
+        if (!out) {
+            std::error_code ec;
+            fs::remove(tmp, ec);
+            throw IoError(fmt::format("{}: write failed", file.string()));
+        }
+    }
+    fs::rename(tmp, file);
 }
 
 } // namespace efsi

@@ -30,8 +30,10 @@ class Simulation {
   public:
     Simulation(const Config& config, const RunOptions& options, MPI_Comm world);
     ~Simulation();
-    /// Step to the end. Returns 0 on success, 3 when the run went unstable (the message
-    /// is printed and stored in summary.json, the last good checkpoint is kept).
+    /// Step to the end. Returns 0 on success (status "completed", or "max_steps" when
+    /// time.max_steps stopped it before time.end_time), 3 when the run went unstable
+    /// (status "unstable") or an output could not be written (status "io_error"); the
+    /// message is printed and stored in summary.json, the last good checkpoint is kept.
     int run();
 
     const FlowState& state() const { return *state_; }
@@ -73,6 +75,7 @@ class Simulation {
     RunClock clock_;
     Diagnostics last_;
     long steps_this_run_ = 0;
+    std::vector<double> load_before_; ///< /proc/loadavg at the start of run()
 };
 
 } // namespace efsi

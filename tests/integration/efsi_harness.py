@@ -60,7 +60,10 @@ def datasets(path):
                 out[name] = obj[()]
         f.visititems(visit)
         for k, v in f.attrs.items():
-            out["@" + k] = np.asarray(v)
+            # numeric attributes only (a checkpoint also holds its case fingerprint and
+            # the checksum of its attributes as strings)
+            if np.asarray(v).dtype.kind in "biuf":
+                out["@" + k] = np.asarray(v)
     return out
 
 
