@@ -4,7 +4,9 @@
     /usr/bin/python3 verification/record.py build/verification/capsule_shear/runs/3d_n32_ca0.0125_t2 [...]
 
 Copies the run's small files (bodies.csv, diagnostics.csv, summary.json, case.toml; no
-fields, no checkpoint) and writes record.json (commit, efsi version, date). A study run with
+fields, no checkpoint) and writes record.json: the commit the solver was built from (from
+the run's summary.json), its rank count and machine load, the repository's HEAD when the
+record was made, the efsi version and the date. A study run with
 EFSI_VERIFY_RECORDS=1 takes a run missing from build/verification from its record
 (studies/_flowio.py). Only finished runs are recorded: completed, or stopped UNSTABLE
 (a result too: the study reports where it stopped).
@@ -38,7 +40,14 @@ def main(argv: list[str]) -> int:
             if name != "record.json" and (out / name).exists():
                 shutil.copy2(out / name, rec / name)
         efsi = REPO / "build" / "bin" / "efsi"
+        summary = json.loads((out / "summary.json").read_text())
         meta = {
+            # the commit the solver that made the run was built from (summary.json); runs
+            # made before builds were stamped have none
+            "efsi_commit": summary.get("efsi_commit", "unknown (run predates build stamping)"),
+            "ranks": summary.get("ranks"),
+            "load_before": summary.get("load_before"),
+            "load_after": summary.get("load_after"),
             "git_at_record": subprocess.run(["git", "rev-parse", "HEAD"], cwd=REPO, text=True,
                                   capture_output=True).stdout.strip(),
             "efsi": subprocess.run([str(efsi), "--version"], text=True,
