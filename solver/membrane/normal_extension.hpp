@@ -9,13 +9,13 @@
 //   - core, |psi| <= core (cells): the transported Gs is kept, projected on the tangent
 //     plane of phi, Gs <- P Gs P (P = I - n n): a tangential tensor, as the membrane's is;
 //   - band, core < |psi| <= reach: Gs(x) <- P(x) Gs(y) P(x), y = x - psi n the foot point on
-//     phi = 1/2, Gs(y) interpolated (tricubic Catmull-Rom) from the values of the step; the band
+//     phi = 1/2, Gs(y) interpolated (trilinear) from the values of the step; the band
 //     never holds a strain that the surface does not have;
 //   - elsewhere on the patch (beyond the band, or where psi is not a distance,
 //     |grad psi|^2 < 1/4): Gs <- I (no elastic memory; the force is not evaluated there).
 // psi = eps atanh(1 - 2 phi) (positive outside), n = grad psi / |grad psi| by central
-// differences. The interpolation reads cells up to reach + 3 cells away, so the copy of Gs
-// it reads carries ceil(reach) + 3 halo layers: every rank's block must be that wide.
+// differences. The interpolation reads cells up to reach + 2 cells away, so the copy of Gs
+// it reads carries ceil(reach) + 2 halo layers: every rank's block must be that wide.
 #pragma once
 
 #include "bodies/body.hpp"

@@ -74,7 +74,7 @@ Result run(int dim, int m) {
         body.phi()(i, j, k) = v < 1e-8 ? 0.0 : v;
         // The exact field in the core (and a margin the trilinear stencil reads from), a
         // wrong one (5 I + 0.3 everywhere) elsewhere: the band must be rebuilt from the core.
-        // (The cubic stencil around a foot point reaches 2 sqrt(3) h along the normal.)
+        // (The stencil around a foot point reaches sqrt(3) h along the normal; a wide margin.)
         const bool keep = std::abs(sd) <= core + 3.6 * h;
         for (int a = 0; a < 3; ++a)
             for (int b = a; b < 3; ++b) {
