@@ -9,7 +9,7 @@ export OMPI_MCA_rmaps_base_oversubscribe := 1
 # The default case: a short, coarse capsule-in-shear run (a few minutes) with a D(t) plot.
 DEFAULT_CASE ?= cases/capsule_default
 
-.PHONY: build run test unit pytest verify verify-full format docs clean
+.PHONY: build run test unit pytest verify verify-full format docs clean fuzz-sanitized
 
 build:
 	cmake --preset release >/dev/null
@@ -31,6 +31,14 @@ verify: build
 verify-full: build
 	$(PYTHON) verification/run.py --tier full $(STUDY); st=$$?; \
 	  $(PYTHON) verification/publish.py && exit $$st
+
+# A subset of the fuzzed bad-input test against the debug preset (ASan/UBSan, NaN-filled
+# fields, FP traps): CI runs it after `make test`.
+fuzz-sanitized:
+	cmake --preset debug >/dev/null
+	cmake --build --preset debug -j $(JOBS) --target efsi
+	EFSI_FUZZ_COUNT=$${EFSI_FUZZ_COUNT:-60} $(PYTHON) tests/integration/test_fuzz_input.py \
+	  --efsi build-debug/bin/efsi --mpiexec mpiexec --cases cases --output build-debug/test-output/fuzz
 
 format:
 	git ls-files '*.cpp' '*.hpp' | xargs clang-format -i

@@ -73,9 +73,13 @@ BodySystem::BodySystem(const Config& config, const Decomposition& dec, const Hal
                                                     b.smoothing_width)) +
                                           2
                                     : 4;
-        extension_.push_back(extend ? std::make_unique<TensorExtension>(
-                                          halos, b.extension_threshold, layers, membrane)
-                                    : nullptr);
+        const bool normal = membrane && !b.pinned && b.strain_extension == "normal";
+        extension_.push_back(extend && !normal ? std::make_unique<TensorExtension>(
+                                                     halos, b.extension_threshold, layers, membrane)
+                                               : nullptr);
+        normal_extension_.push_back(normal ? std::make_unique<NormalExtension>(
+                                                 halos, b.name, b.smoothing_width, b.strain_core)
+                                           : nullptr);
         const bool surface = b.carried_by_surface_velocity();
         carried_by_surface_.push_back(surface);
         if (surface && !surface_velocity_) {
@@ -289,6 +293,8 @@ void BodySystem::advance(const VelocityField& u, real dt, long step, StageTimers
             local[i] = vof_[i]->advance_local(body.phi(), u, dt, step, &body.patch());
         });
         if (extension_[i]) timers.time("bodies_extension", [&] { extension_[i]->apply(body); });
+        if (normal_extension_[i])
+            timers.time("bodies_extension", [&] { normal_extension_[i]->apply(body); });
     }
     timers.time("bodies_vof_reduce", [&] {
         for (std::size_t i = 0; i < bodies_.size(); ++i)

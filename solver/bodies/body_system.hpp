@@ -8,6 +8,7 @@
 #include "boundary/boundary.hpp"
 #include "config/config.hpp"
 #include "interface/vof_advection.hpp"
+#include "membrane/normal_extension.hpp"
 #include "membrane/surface_velocity.hpp"
 #include "solid/tensor_extension.hpp"
 #include "time/stage_timers.hpp"
@@ -70,6 +71,8 @@ class BodySystem {
     std::vector<std::unique_ptr<VofAdvection>> vof_;
     std::vector<std::unique_ptr<BodyTransport>> transport_;
     std::vector<std::unique_ptr<TensorExtension>> extension_; ///< null: B not extended
+    /// Membranes with strain_extension = normal (then extension_ is null).
+    std::vector<std::unique_ptr<NormalExtension>> normal_extension_;
     /// Carries the membranes' Gs with their surfaces' velocities; one for all bodies (null:
     /// no body uses it). carried_by_surface_[i]: body i's Gs is carried by it (else by u).
     std::unique_ptr<SurfaceVelocity> surface_velocity_;

@@ -106,6 +106,16 @@ std::vector<BodyConfig> read_bodies(TableReader& top, const GlobalGrid& grid,
                      "surface take its velocity, blended into the local one by reach; 5 "
                      "covers the band, 1.5 keeps stiff membranes (Es or the Skalak area "
                      "modulus >~ 100 mu shear_rate a) stable (docs/method.md)");
+        b.strain_extension = r.string(
+            "strain_extension", "layers", {"normal", "layers"},
+            "membrane: how Gs outside the band core is rebuilt after each step: normal (Gs "
+            "kept in |psi| <= strain_core cells and projected, P Gs P, and copied outward "
+            "along the normals from the foot point on phi = 1/2; I beyond the band) or layers "
+            "(the mean of known neighbours marched out from the core extension_threshold <= "
+            "phi <= 1 - extension_threshold)");
+        b.strain_core = r.number("strain_core", 1.0, Range::closed(0.0, 4.0), "cells",
+                                 "membrane, strain_extension = normal: half-thickness of the "
+                                 "band core whose transported Gs is kept");
         b.bending = b.bending_modulus > 0;
         r.finish();
         if (KeyCatalogue::instance().documenting) continue;

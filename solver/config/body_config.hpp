@@ -49,6 +49,11 @@ struct BodyConfig {
     /// every layer of the band shares the membrane's strain) or "local" (each layer its own).
     std::string strain_velocity = "surface";
     real surface_velocity_reach = 5.0; ///< cells (strain_velocity = surface)
+    /// How Gs outside the band core is rebuilt after each step: "normal" (closest-point
+    /// extension of the core's Gs along the normals, P Gs P, I beyond the band) or "layers"
+    /// (the mean of known neighbours marched out from t <= phi <= 1 - t, extension_threshold).
+    std::string strain_extension = "layers";
+    real strain_core = 1.0; ///< cells: half-thickness of the core (strain_extension = normal)
 
     /// A moving membrane whose Gs is carried by the surface velocity.
     bool carried_by_surface_velocity() const {

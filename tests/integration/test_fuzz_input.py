@@ -158,8 +158,10 @@ add("grid too large to allocate", tg,
 add("grid too large (run)", tg, ["grid.cells=[65536, 65536, 65536]",
                                  "grid.length=[1.0, 1.0, 1.0]"], ["grid.cells"],
     command="run")
-add("periodic grid not a power of two", tg,
-    ["grid.cells=[48, 48, 1]", "grid.length=[1.0, 1.0, 0.0208333333333333333]"], ["grid.cells"])
+# PFMG needs a power of two along periodic directions (the FFT pressure solve does not).
+add("periodic grid not a power of two for PFMG", tg,
+    ["grid.cells=[48, 48, 1]", "grid.length=[1.0, 1.0, 0.0208333333333333333]",
+     'solver.pressure.method="pcg_pfmg"'], ["grid.cells"])
 add("grid of 1 cell", tg, ["grid.cells=[1, 64, 1]"], ["grid.cells"])
 add("2D with walls in z", os.path.join(args.cases, "lid_cavity"), ["boundary.z_low=wall",
                                                                  "boundary.z_high=wall"],

@@ -1,0 +1,59 @@
+// Gs in a membrane's band: kept near the surface, copied outward along the normals.
+//
+// Gs stands for the stretch of one surface, the membrane at phi = 1/2, but it is stored in
+// every cell of a band some 12 eps thick. Transported on its own in every cell, the band's
+// layers drift away from the surface's strain (the outer band, where the outside fluid
+// shears past, ran away to tr Gs ~ 100 in the 3D capsule at Ca 0.2; docs/verification.md).
+// After each step, therefore (closest-point extension, Ruuth & Merriman 2008; the strategy
+// of the public Basilisk re-implementation of the Ii et al. method):
+//   - core, |psi| <= core (cells): the transported Gs is kept, projected on the tangent
+//     plane of phi, Gs <- P Gs P (P = I - n n): a tangential tensor, as the membrane's is;
+//   - band, core < |psi| <= reach: Gs(x) <- P(x) Gs(y) P(x), y = x - psi n the foot point on
+//     phi = 1/2, Gs(y) interpolated (trilinear) from the values of the step; the band
+//     never holds a strain that the surface does not have;
+//   - elsewhere on the patch (beyond the band, or where psi is not a distance,
+//     |grad psi|^2 < 1/4): Gs <- I (no elastic memory; the force is not evaluated there).
+// psi = eps atanh(1 - 2 phi) (positive outside), n = grad psi / |grad psi| by central
+// differences. The interpolation reads cells up to reach + 2 cells away, so the copy of Gs
+// it reads carries ceil(reach) + 2 halo layers: every rank's block must be that wide.
+#pragma once
+
+#include "bodies/body.hpp"
+#include "boundary/boundary.hpp"
+#include "grid/field.hpp"
+
+#include <string>
+#include <vector>
+
+namespace efsi {
+
+class NormalExtension {
+  public:
+    /// `eps_cells`: the smoothing width of phi in cells; `core_cells`: half-thickness of the
+    /// core in cells; `reach_cells`: |psi| (cells) up to which Gs is extended (default: the
+    /// band's edge, |psi| = eps atanh(1 - 2e-5) = 5.75 eps, plus 2 cells for the force's and
+    /// the transport's stencils). Throws InputError (naming `body_name`) when a rank's block
+    /// is too thin for the interpolation's halo.
+    NormalExtension(const HaloFiller& halos, const std::string& body_name, real eps_cells,
+                    real core_cells, real reach_cells = -1);
+
+    /// Replace Gs on the body's patch as described above; fills Gs's halos. Collective.
+    void apply(Body& body);
+
+    real core_cells() const { return core_cells_; }
+    real reach_cells() const { return reach_cells_; }
+
+    /// The default reach for a smoothing width of `eps_cells` cells.
+    static real default_reach(real eps_cells);
+
+  private:
+    const HaloFiller& halos_;
+    real eps_cells_;
+    real core_cells_;
+    real reach_cells_;
+    int wide_halo_;
+    Field psi_;              ///< eps atanh(1 - 2 phi), halo 1
+    std::vector<Field> src_; ///< Gs after the transport, wide halos (interpolation source)
+};
+
+} // namespace efsi

@@ -1,0 +1,152 @@
+// Normal extension of a membrane's Gs (solver/membrane/normal_extension): after each step
+// the band's Gs is the core's, copied outward along the normals and projected on the
+// tangent plane. It must
+//  - reproduce a field that is constant along the normals (P A P around a sphere, A any
+//    constant symmetric tensor) from its core values alone, to the interpolation's second
+//    order, whatever the band held before;
+//  - leave every band cell tangential (Gs n = 0 to round-off, n the normal of phi);
+//  - reset the cells beyond the band to I;
+//  - agree on 1 and 2 ranks (foot points across the rank boundary).
+#include "bodies/body.hpp"
+#include "boundary/boundary.hpp"
+#include "membrane/normal_extension.hpp"
+#include "membrane_test_grid.hpp"
+#include "parallel/decomposition.hpp"
+#include "test_support.hpp"
+
+#include <array>
+#include <cmath>
+
+using namespace efsi;
+
+namespace {
+
+using efsi::test::GridSetup;
+
+const Real3 kCentre{0.011, -0.017, 0.013};
+constexpr real kRadius = 0.4;
+
+Real3 offset(const Real3& x, int dim) {
+    return {x[0] - kCentre[0], x[1] - kCentre[1], dim == 3 ? x[2] - kCentre[2] : 0.0};
+}
+
+real norm(const Real3& r) {
+    return std::sqrt(r[0] * r[0] + r[1] * r[1] + r[2] * r[2]);
+}
+
+/// The constant tensor A whose tangential part P A P the band should hold.
+real a_entry(int a, int b, int dim) {
+    static const real A[3][3] = {{1.3, 0.2, -0.1}, {0.2, 0.8, 0.15}, {-0.1, 0.15, 1.1}};
+    if (dim == 2 && (a == 2 || b == 2)) return a == b ? 1.0 : 0.0;
+    return A[a][b];
+}
+
+/// (P A P)_ab at x with n the radial unit vector.
+real pap(const Real3& x, int a, int b, int dim) {
+    const Real3 r = offset(x, dim);
+    const real rr = norm(r);
+    const Real3 n{r[0] / rr, r[1] / rr, r[2] / rr};
+    auto P = [&](int i, int j) { return (i == j ? 1.0 : 0.0) - n[i] * n[j]; };
+    real v = 0;
+    for (int i = 0; i < 3; ++i)
+        for (int j = 0; j < 3; ++j)
+            v += P(a, i) * a_entry(i, j, dim) * P(j, b);
+    return v;
+}
+
+struct Result {
+    real core_to_band_error = 0; ///< max |Gs - P A P| over the band, |s| <= 5.75 eps
+    real normal_leak = 0;        ///< max |Gs n| over the band, n = grad psi / |grad psi|
+    real beyond = 0;             ///< max |Gs - I| beyond the reach
+};
+
+Result run(int dim, int m) {
+    const real h = 0.05 / m; // R = 8 m cells
+    GridSetup s = efsi::test::make_setup(dim, {32 * m, 34 * m, 30 * m}, h, BoundaryType::Periodic);
+    Body body("capsule", BodyKind::Membrane, false, dim);
+    body.allocate(make_patch(Box{{0, 0, 0}, s.g.cells}, *s.dec));
+    const real eps = h;
+    const real core = 1.0 * h;
+    for_each_in(body.patch().local, [&](int i, int j, int k) {
+        const Real3 x = position(s.g, s.dec->block(), Location::Cell, i, j, k);
+        const real sd = norm(offset(x, dim)) - kRadius;
+        const real v = 0.5 * (1 - std::tanh(sd / eps));
+        body.phi()(i, j, k) = v < 1e-8 ? 0.0 : v;
+        // The exact field in the core (and a margin the trilinear stencil reads from), a
+        // wrong one (5 I + 0.3 everywhere) elsewhere: the band must be rebuilt from the core.
+        // (The stencil around a foot point reaches sqrt(3) h along the normal; a wide margin.)
+        const bool keep = std::abs(sd) <= core + 3.6 * h;
+        for (int a = 0; a < 3; ++a)
+            for (int b = a; b < 3; ++b) {
+                const int sl = SymmetricTensorField::slot(a, b, dim);
+                if (sl < 0) continue;
+                body.tensor().comp[sl](i, j, k) =
+                    keep ? pap(x, a, b, dim) : (a == b ? 5.0 : 0.0) + 0.3;
+            }
+    });
+    s.halos->fill(body.phi(), body.patch());
+    NormalExtension ext(*s.halos, "capsule", 1.0, 1.0);
+    ext.apply(body);
+    Result r;
+    const real band = std::atanh(1 - 2e-5) * eps;
+    const real reach = ext.reach_cells() * h;
+    const SymmetricTensorField& G = body.tensor();
+    for_each_in(body.patch().local, [&](int i, int j, int k) {
+        const Real3 x = position(s.g, s.dec->block(), Location::Cell, i, j, k);
+        const Real3 rv = offset(x, dim);
+        const real rr = norm(rv);
+        const real sd = rr - kRadius;
+        const Int3 p{i, j, k};
+        if (std::abs(sd) <= band && rr > 0.5 * kRadius) {
+            for (int a = 0; a < 3; ++a)
+                for (int b = 0; b < 3; ++b)
+                    r.core_to_band_error = std::max(r.core_to_band_error,
+                                                    std::abs(G.value(a, b, p) - pap(x, a, b, dim)));
+            // The normal of phi (central differences of psi, as the extension's own).
+            Real3 gp{0, 0, 0};
+            real g2 = 0;
+            auto psi = [&](int di, int dj, int dk) {
+                const real v =
+                    std::clamp(1 - 2 * body.phi()(i + di, j + dj, k + dk), -1 + 1e-15, 1 - 1e-15);
+                return eps * std::atanh(v);
+            };
+            gp[0] = psi(1, 0, 0) - psi(-1, 0, 0);
+            gp[1] = psi(0, 1, 0) - psi(0, -1, 0);
+            if (dim == 3) gp[2] = psi(0, 0, 1) - psi(0, 0, -1);
+            for (int d = 0; d < 3; ++d)
+                g2 += gp[d] * gp[d];
+            for (int a = 0; a < 3; ++a) {
+                real gn = 0;
+                for (int b = 0; b < 3; ++b)
+                    gn += G.value(a, b, p) * gp[b] / std::sqrt(g2);
+                r.normal_leak = std::max(r.normal_leak, std::abs(gn));
+            }
+        }
+        if (sd > reach + 0.5 * h) // outside only: far inside, psi saturates to the same test
+            for (int a = 0; a < 3; ++a)
+                for (int b = 0; b < 3; ++b)
+                    r.beyond =
+                        std::max(r.beyond, std::abs(G.value(a, b, p) - (a == b ? 1.0 : 0.0)));
+    });
+    r.core_to_band_error = efsi::test::global_max(r.core_to_band_error);
+    r.normal_leak = efsi::test::global_max(r.normal_leak);
+    r.beyond = efsi::test::global_max(r.beyond);
+    return r;
+}
+
+} // namespace
+
+TEST(NormalExtension, ReproducesAFieldConstantAlongNormalsToSecondOrder) {
+    for (int dim : {2, 3}) {
+        const Result coarse = run(dim, 1);
+        const Result fine = run(dim, 2);
+        // Interpolation of a smooth field at the foot point, and the foot point itself
+        // (psi and n from central differences of the smoothed phi): second order in h/R.
+        EXPECT_LT(coarse.core_to_band_error, 2e-2) << "dim " << dim;
+        const real order = std::log2(coarse.core_to_band_error / fine.core_to_band_error);
+        EXPECT_GT(order, 1.7) << "dim " << dim << ": errors " << coarse.core_to_band_error << ", "
+                              << fine.core_to_band_error;
+        EXPECT_LT(coarse.normal_leak, 1e-13) << "dim " << dim;
+        EXPECT_EQ(coarse.beyond, 0.0) << "dim " << dim;
+    }
+}
