@@ -14,9 +14,10 @@ Published steady values next to them: Ramanujan & Pozrikidis 1998 (~0.26 at Ca 0
 0.1, ~0.50 at 0.2) and the small-deformation value 25/4 Ca at Ca <= 0.025 (for Skalak, the
 Barthes-Biesel & Rallison form of capsule_shear.py).
 
-ACCEPTANCE holds the targets of issue 19; every bound a run breaks is listed in the notes
-and the table, counted in `acceptance_failures`, and makes the study fail (status
-"failed") after its result is written, so a broken target cannot pass silently. The ci
+ACCEPTANCE holds the targets of issue 19, declared as BOUNDS for the harness; every bound a
+run breaks is listed in the notes and the table, counted in `acceptance_failures`, and makes
+the study fail (status "bounds_broken", run.py exits non-zero naming it), so a broken target
+cannot pass silently. The ci
 tier is a short smoke run whose bounds hold today; the quick tier (d/8 to t = 10, Ca 0.05
 and 0.2) does not pass with the current default formulation (docs/method.md, "Gs in the
 band"): it is the measure of issue 19.
@@ -30,6 +31,7 @@ from pathlib import Path
 
 import numpy as np
 
+from _bounds import Bound
 from _flowio import body_series, cached_run, capsule_box_sets
 
 DESCRIPTION = "capsules to steady state: t reached, steady D / angle, tr Gs, area, volume"
@@ -51,6 +53,25 @@ ACCEPTANCE = {
     "area_neo_hookean_ca<=0.05": 0.05,
     "area_skalak_C100": 0.01,
 }
+# The same targets as acceptance bounds for the harness (verification/studies/_bounds.py):
+# run.py marks the study bounds_broken and names each broken one.
+_QF = ("quick", "full")
+BOUNDS = [
+    Bound(r"reached_end_.*", "==", 1, "every run reaches its end time (no UNSTABLE stop)"),
+    Bound(r"max_trace_Gs_.*", "<=", ACCEPTANCE["max_trace_Gs"],
+          "the membrane strain stays consistent: max tr Gs below 10 (issue 19)"),
+    Bound(r"volume_drift_.*", "<=", ACCEPTANCE["volume_drift"], "volume drift below 1e-10"),
+    Bound(r"max_area_change_ca0\.(0125|025|05)_n[0-9]+(_bend[0-9.]+)?", "<=",
+          ACCEPTANCE["area_neo_hookean_ca<=0.05"],
+          "area change below 5 % for neo-Hookean membranes at Ca <= 0.05", tiers=_QF),
+    Bound(r"max_area_change_ca[0-9.]+_n[0-9]+_skalak_C100", "<=",
+          ACCEPTANCE["area_skalak_C100"], "area change below 1 % for Skalak C = 100",
+          tiers=("full",)),
+    Bound(r"steady_D_error_ca[0-9.]+_n64", "<=", 0.02,
+          "steady D within 0.02 of the published value at d/16", tiers=("full",)),
+    Bound(r"steady_D_error_ca[0-9.]+_n128", "<=", 0.01,
+          "steady D within 0.01 of the published value at d/32", tiers=("full",)),
+]
 # Published steady D (RP98 plateaus; small-deformation theory at Ca <= 0.025).
 STEADY_D_RP98 = {0.05: 0.26, 0.1: 0.38, 0.2: 0.50}
 
@@ -131,6 +152,9 @@ def run(ctx):
                          "max_trace_Gs", "max_area_change", "volume_drift"):
                 metrics[f"{name}_{key}"] = m[name]
             ref = steady_reference(ca, law, c)
+            metrics[f"reached_end_{key}"] = int(abs(m["t_end"] - t_end) <= 1e-9)
+            if ref is not None and eb == 0.0:
+                metrics[f"steady_D_error_{key}"] = float(abs(m["steady_D"] - ref))
             broken = broken_bounds(m, t_end, ca, law, c)
             failures += [f"{key}: {b}" for b in broken]
             rows.append({"run": key, "asked t": t_end, "t reached": round(m["t_end"], 4),
@@ -147,8 +171,6 @@ def run(ctx):
     result = {"metrics": metrics, "tables": {"runs": rows},
               "notes": ("Targets of issue 19 (ACCEPTANCE): " + json.dumps(ACCEPTANCE)
                         + ". Broken: " + ("; ".join(failures) if failures else "none") + ".")}
-    (ctx.outdir / "partial_result.json").write_text(json.dumps(result, indent=1))
-    if failures:
-        raise RuntimeError("capsule_longtime: acceptance bounds broken: " + "; ".join(failures)
-                           + f" (metrics in {ctx.outdir / 'partial_result.json'})")
+    # A broken target is not an exception: the harness checks BOUNDS, marks the study
+    # bounds_broken, names each bound and keeps the result (a miss is reported with numbers).
     return result
