@@ -37,8 +37,9 @@ verify-full: build
 fuzz-sanitized:
 	cmake --preset debug >/dev/null
 	cmake --build --preset debug -j $(JOBS) --target efsi
-	EFSI_FUZZ_COUNT=$${EFSI_FUZZ_COUNT:-60} $(PYTHON) tests/integration/test_fuzz_input.py \
-	  --efsi build-debug/bin/efsi --mpiexec mpiexec --cases cases --output build-debug/test-output/fuzz
+	EFSI_FUZZ_COUNT=$${EFSI_FUZZ_COUNT:-60} $(PYTHON) $(CURDIR)/tests/integration/test_fuzz_input.py \
+	  --efsi $(CURDIR)/build-debug/bin/efsi --mpiexec mpiexec --cases $(CURDIR)/cases \
+	  --output $(CURDIR)/build-debug/test-output/fuzz
 
 format:
 	git ls-files '*.cpp' '*.hpp' | xargs clang-format -i
