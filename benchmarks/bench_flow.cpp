@@ -7,6 +7,8 @@
 #include "operators/flow_operators.hpp"
 #include "parallel/decomposition.hpp"
 
+#include "bench_grid.hpp"
+
 #include <benchmark/benchmark.h>
 #include <mpi.h>
 
@@ -16,13 +18,7 @@ using namespace efsi;
 
 namespace {
 
-GlobalGrid cube(int n) {
-    GlobalGrid g;
-    g.cells = {n, n, n};
-    g.length = {1, 1, 1};
-    g.dim = 3;
-    return g;
-}
+using bench::cube;
 
 void BM_AdvectionSweep(benchmark::State& state) {
     const int n = int(state.range(0));

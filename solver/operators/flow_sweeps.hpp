@@ -47,6 +47,22 @@ inline void for_each_row(const Int3& n, F&& f) {
             f(j, k);
 }
 
+/// The fixed wall faces of component C in row (j, k) (the low c-face on a wall) are set to
+/// zero; returns the first point of the row left to compute (n0 when the whole row is wall).
+template <int C>
+inline int zero_wall_faces(bool wall_at_low_c, int j, int k, int n0, real* row) {
+    if (!wall_at_low_c) return 0;
+    if (C == 0) {
+        row[0] = 0;
+        return 1;
+    }
+    if ((C == 1 && j == 0) || (C == 2 && k == 0)) {
+        std::fill(row, row + n0, real(0));
+        return n0;
+    }
+    return 0;
+}
+
 /// adv_c = -div(u u_c) at the c-faces (Harlow & Welch conservative central form).
 template <int C, int Dim>
 void advection(const VelocityField& u, const GlobalGrid& g, Field& adv) {
@@ -110,16 +126,8 @@ void predictor(const VelocityField& u, const Field& p, Field& adv, const Field& 
     const bool viscous = k_.nu_explicit != 0;
     for_each_row(L.n, [&](int j, int k) {
         const std::ptrdiff_t r = L.row(u[C], j, k);
-        int i0 = 0;
-        if (wall_at_low_c && ((C == 0) || (C == 1 && j == 0) || (C == 2 && k == 0))) {
-            if (C != 0) {
-                for (int i = 0; i < L.n[0]; ++i)
-                    out[r + i] = 0;
-                return;
-            }
-            out[r] = 0;
-            i0 = 1;
-        }
+        const int i0 = zero_wall_faces<C>(wall_at_low_c, j, k, L.n[0], out + r);
+        if (i0 == L.n[0]) return;
         if (f)
             for (int i = i0; i < L.n[0]; ++i)
                 a[r + i] += f[r + i] * k_.inv_rho;
@@ -178,16 +186,8 @@ void correction(const Field& ustar, const Field& phi, const GlobalGrid& g, real 
     const std::ptrdiff_t sc = L.s[C];
     for_each_row(L.n, [&](int j, int k) {
         const std::ptrdiff_t r = L.row(u, j, k);
-        int i0 = 0;
-        if (wall_at_low_c && ((C == 0) || (C == 1 && j == 0) || (C == 2 && k == 0))) {
-            if (C != 0) {
-                for (int i = 0; i < L.n[0]; ++i)
-                    out[r + i] = 0;
-                return;
-            }
-            out[r] = 0;
-            i0 = 1;
-        }
+        const int i0 = zero_wall_faces<C>(wall_at_low_c, j, k, L.n[0], out + r);
+        if (i0 == L.n[0]) return;
         for (int i = i0; i < L.n[0]; ++i) {
             const std::ptrdiff_t m = r + i;
             out[m] = us[m] - (ph[m] - ph[m - sc]) * gs;
