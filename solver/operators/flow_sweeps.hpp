@@ -16,6 +16,10 @@
 #include <algorithm>
 #include <cmath>
 #include <cstddef>
+#include <vector>
+#if defined(__SSE2__)
+#include <emmintrin.h>
+#endif
 
 namespace efsi::sweep {
 
@@ -64,6 +68,13 @@ inline int zero_wall_faces(bool wall_at_low_c, int j, int k, int n0, real* row) 
 }
 
 /// adv_c = -div(u u_c) at the c-faces (Harlow & Welch conservative central form).
+///
+/// Row by row over unit-stride restrict pointers (one per neighbour row, so the inner loop is
+/// plain streams the compiler vectorises without alias checks). The momentum flux through a
+/// face is shared by the two cells on either side of it; along x (unit stride) it is computed
+/// once per face into a row buffer and differenced, which saves a third of the arithmetic.
+/// Every flux is the same expression, evaluated in the same order, as before, so the result
+/// is bit for bit that of the direct two-flux form (and of flow_operators.hpp to round-off).
 template <int C, int Dim>
 void advection(const VelocityField& u, const GlobalGrid& g, Field& adv) {
     const Layout L(u[C]);
@@ -75,25 +86,62 @@ void advection(const VelocityField& u, const GlobalGrid& g, Field& adv) {
                          Dim > 2 ? u[2].data().data() : nullptr};
     real* out = adv.data().data();
     const std::ptrdiff_t sc = L.s[C];
+    const int n0 = L.n[0];
+    // x fluxes of the row at faces i - 1/2 (C != 0: the (c,x) edges; C == 0: cell centres),
+    // i = 0..n0, stored at fx[i].
+    std::vector<real> fx_buf(std::size_t(n0) + 1);
+    real* __restrict fx = fx_buf.data();
     for_each_row(L.n, [&](int j, int k) {
         const std::ptrdiff_t r = L.row(u[C], j, k);
-        for (int i = 0; i < L.n[0]; ++i) {
-            const std::ptrdiff_t m = r + i;
-            const real hi = 0.5 * (uc[m] + uc[m + sc]);
-            const real lo = 0.5 * (uc[m - sc] + uc[m]);
-            real acc = (hi * hi - lo * lo) * inv[C];
-#pragma GCC unroll 3
-            for (int e = 0; e < Dim; ++e) {
-                if (e == C) continue;
-                const std::ptrdiff_t se = L.s[e];
-                const real* w = ue[e];
-                // flux u_e u_c on the (c,e) edges of cells m + e_e and m
-                const real fh = 0.25 * (w[m + se] + w[m + se - sc]) * (uc[m + se] + uc[m]);
-                const real fl = 0.25 * (w[m] + w[m - sc]) * (uc[m] + uc[m - se]);
-                acc += (fh - fl) * inv[e];
+        const real* __restrict c0 = uc + r;
+        real* __restrict o = out + r;
+        if constexpr (C == 0) {
+            // (u u) at cell centres i - 1 + 1/2: hi of point i - 1 = lo of point i.
+            for (int i = 0; i <= n0; ++i) {
+                const real h = 0.5 * (c0[i - 1] + c0[i]);
+                fx[i] = h * h;
             }
-            out[m] = -acc;
+        } else {
+            // flux u_x u_c on the (c,x) edge between points i - 1 and i
+            const real* __restrict w0 = ue[0] + r;
+            for (int i = 0; i <= n0; ++i)
+                fx[i] = 0.25 * (w0[i] + w0[i - sc]) * (c0[i] + c0[i - 1]);
         }
+        const real ix = inv[0];
+        if constexpr (C == 0) {
+            for (int i = 0; i < n0; ++i)
+                o[i] = (fx[i + 1] - fx[i]) * ix;
+        } else {
+            // the c-direction term
+            const real* __restrict cp = c0 + sc;
+            const real* __restrict cm = c0 - sc;
+            const real icc = inv[C];
+            for (int i = 0; i < n0; ++i) {
+                const real hi = 0.5 * (c0[i] + cp[i]);
+                const real lo = 0.5 * (cm[i] + c0[i]);
+                o[i] = (hi * hi - lo * lo) * icc + (fx[i + 1] - fx[i]) * ix;
+            }
+        }
+#pragma GCC unroll 3
+        for (int e = 1; e < Dim; ++e) {
+            if (e == C) continue;
+            const std::ptrdiff_t se = L.s[e];
+            const real* __restrict w0 = ue[e] + r;      // w at m
+            const real* __restrict wm = ue[e] + r - sc; // w at m - sc
+            const real* __restrict wp = ue[e] + r + se;
+            const real* __restrict wpm = ue[e] + r + se - sc;
+            const real* __restrict cp = c0 + se;
+            const real* __restrict cm = c0 - se;
+            const real ie = inv[e];
+            for (int i = 0; i < n0; ++i) {
+                // flux u_e u_c on the (c,e) edges of cells m + e_e and m
+                const real fh = 0.25 * (wp[i] + wpm[i]) * (cp[i] + c0[i]);
+                const real fl = 0.25 * (w0[i] + wm[i]) * (c0[i] + cm[i]);
+                o[i] += (fh - fl) * ie;
+            }
+        }
+        for (int i = 0; i < n0; ++i)
+            o[i] = -o[i];
     });
 }
 
@@ -146,8 +194,31 @@ void predictor(const VelocityField& u, const Field& p, Field& adv, const Field& 
     });
 }
 
-/// rhs = -scale div(v) at the cell centres; returns max |v| over the owned faces swept.
-template <int Dim>
+/// max(m, |x_i|) over a row; exact whatever the order, so vectorised (SSE2 max on two lanes)
+/// where the compiler will not vectorise a floating-point max reduction itself. NaNs are
+/// skipped as std::max(m, x) skips them (max_pd returns its second operand, m, then).
+inline real max_abs(const real* __restrict x, int n, real m) {
+    int i = 0;
+#if defined(__SSE2__)
+    const __m128d sign = _mm_set1_pd(-0.0);
+    __m128d a = _mm_set1_pd(m), b = a;
+    for (; i + 4 <= n; i += 4) {
+        a = _mm_max_pd(_mm_andnot_pd(sign, _mm_loadu_pd(x + i)), a);
+        b = _mm_max_pd(_mm_andnot_pd(sign, _mm_loadu_pd(x + i + 2)), b);
+    }
+    a = _mm_max_pd(a, b);
+    double lanes[2];
+    _mm_storeu_pd(lanes, a);
+    m = std::max(lanes[0], lanes[1]);
+#endif
+    for (; i < n; ++i)
+        m = std::max(m, std::abs(x[i]));
+    return m;
+}
+
+/// rhs = -scale div(v) at the cell centres; returns max |v| over the owned faces swept when
+/// Speed (the iterative solve's stopping floor needs it; the direct solve does not).
+template <int Dim, bool Speed = true>
 real divergence(const VelocityField& u, const GlobalGrid& g, real scale, Field& rhs) {
     const Layout L(rhs);
     real inv[3];
@@ -156,20 +227,27 @@ real divergence(const VelocityField& u, const GlobalGrid& g, real scale, Field& 
     const real* v[3] = {u[0].data().data(), u[1].data().data(),
                         Dim > 2 ? u[2].data().data() : nullptr};
     real* out = rhs.data().data();
+    const int n0 = L.n[0];
     real speed = 0;
     for_each_row(L.n, [&](int j, int k) {
         const std::ptrdiff_t r = L.row(rhs, j, k);
-        for (int i = 0; i < L.n[0]; ++i) {
-            const std::ptrdiff_t m = r + i;
-            real div = 0;
-#pragma GCC unroll 3
-            for (int e = 0; e < Dim; ++e)
-                div += (v[e][m + L.s[e]] - v[e][m]) * inv[e];
-            out[m] = -div;
+        const real* __restrict x0 = v[0] + r;
+        const real* __restrict y0 = v[1] + r;
+        const real* __restrict y1 = v[1] + r + L.s[1];
+        real* __restrict o = out + r;
+        if constexpr (Dim == 2) {
+            for (int i = 0; i < n0; ++i)
+                o[i] = -((x0[i + 1] - x0[i]) * inv[0] + (y1[i] - y0[i]) * inv[1]);
+        } else {
+            const real* __restrict z0 = v[2] + r;
+            const real* __restrict z1 = v[2] + r + L.s[2];
+            for (int i = 0; i < n0; ++i)
+                o[i] = -(((x0[i + 1] - x0[i]) * inv[0] + (y1[i] - y0[i]) * inv[1]) +
+                         (z1[i] - z0[i]) * inv[2]);
         }
-        for (int e = 0; e < Dim; ++e)
-            for (int i = 0; i < L.n[0]; ++i)
-                speed = std::max(speed, std::abs(v[e][r + i]));
+        if constexpr (Speed)
+            for (int e = 0; e < Dim; ++e)
+                speed = max_abs(v[e] + r, n0, speed);
     });
     return speed;
 }

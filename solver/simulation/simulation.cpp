@@ -5,6 +5,7 @@
 #include "flow/initial_conditions.hpp"
 #include "io/field_output.hpp"
 #include "membrane/surface_velocity.hpp"
+#include "parallel/peak_memory.hpp"
 #include "time/time_step_control.hpp"
 
 #include <fmt/core.h>
@@ -491,6 +492,9 @@ int Simulation::run() {
 
 void Simulation::write_summary(double wall_seconds, const std::string& status,
                                const std::string& message) const {
+    // Reduced over the ranks only when every rank finished the run (docs/output.md).
+    const PeakMemory mem =
+        peak_memory(dec_->comm(), status == "completed" || status == "max_steps");
     if (dec_->rank() != 0) return;
     nlohmann::json j;
     j["case"] = cfg_.name;
@@ -510,6 +514,8 @@ void Simulation::write_summary(double wall_seconds, const std::string& status,
     j["wall_seconds"] = wall_seconds;
     j["cell_updates_per_second"] =
         double(cfg_.grid.total_cells()) * steps_this_run_ / std::max(wall_seconds, 1e-9);
+    j["peak_rss_bytes_max_rank"] = mem.max_rank_bytes;
+    j["peak_rss_bytes_sum"] = mem.sum_bytes;
     nlohmann::json stages;
     for (const auto& [k, v] : timers_.seconds())
         stages[k] = v;

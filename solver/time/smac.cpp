@@ -297,6 +297,17 @@ SolveReport SmacStepper::pressure_solve(real dt) {
     halos_.fill(ustar_);
     const real scale = cfg_.fluid.density / dt;
     sweep::require_same_layout(ustar_[0], rhs_);
+    if (pressure_fft_) {
+        // The direct solve needs no stopping floor (so no max |v*| and no reduction for
+        // it) and no starting guess; it sets the (undetermined) mean of phi to zero.
+        if (ustar_.dim == 2)
+            sweep::divergence<2, false>(ustar_, g, scale, rhs_);
+        else
+            sweep::divergence<3, false>(ustar_, g, scale, rhs_);
+        const real mean = mean_over_block(dec_, rhs_);
+        for_each_cell(dec_.block().cells, [&](int i, int j, int k) { rhs_(i, j, k) -= mean; });
+        return pressure_fft_->solve(rhs_, phi_);
+    }
     const real speed = ustar_.dim == 2 ? sweep::divergence<2>(ustar_, g, scale, rhs_)
                                        : sweep::divergence<3>(ustar_, g, scale, rhs_);
     // A divergence at round-off level of |v*|/h cannot be reduced further: stop there.
@@ -308,8 +319,6 @@ SolveReport SmacStepper::pressure_solve(real dt) {
         rhs_(i, j, k) -= mean;
         phi_(i, j, k) = 0;
     });
-    // The direct solve sets the (undetermined) mean of phi to zero.
-    if (pressure_fft_) return pressure_fft_->solve(rhs_, phi_);
     return pressure_->solve(rhs_, phi_, floor);
 }
 
