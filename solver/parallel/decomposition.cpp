@@ -4,7 +4,9 @@
 
 #include <fmt/core.h>
 
+#include <algorithm>
 #include <cassert>
+#include <vector>
 
 #include <iostream>
 
@@ -27,6 +29,20 @@ Int3 Decomposition::choose_ranks(int ranks, const GlobalGrid& grid, Int3 request
     // fails, try every factorisation before giving up so any workable count is accepted.
     Int3 trial = dims;
     MPI_Dims_create(ranks, 3, trial.data());
+    // MPI_Dims_create puts the largest factors first (x); they go to the last directions
+    // instead (z in 3D, y in 2D): x rows stay whole (unit-stride sweeps, halos of whole
+    // planes or rows), and with ranks only along the last direction the blocks are the FFT
+    // solver's slabs, so it skips two of its four all-to-all redistributions
+    // (docs/method.md, "Parallel layout").
+    {
+        std::vector<int> free_values;
+        for (int d = 0; d < 3; ++d)
+            if (dims[d] <= 0) free_values.push_back(trial[d]);
+        std::sort(free_values.begin(), free_values.end());
+        std::size_t q = 0;
+        for (int d = 0; d < 3; ++d)
+            if (dims[d] <= 0) trial[d] = free_values[q++];
+    }
     auto divides = [&](const Int3& t) {
         for (int d = 0; d < 3; ++d)
             if (grid.cells[d] % t[d] != 0 || (t[d] > 1 && grid.cells[d] / t[d] < 2))
@@ -95,33 +111,58 @@ void Decomposition::exchange(Field& f, int d, bool with_low, bool with_high) con
     send_.resize(count);
     recv_.resize(count);
 
+    // The slab's rows along x are contiguous in memory: copy them whole.
+    const std::size_t row = std::size_t(hi[0] - lo[0]);
+    real* data = f.data().data();
+    auto row_at = [&](int start, int j, int k) {
+        Int3 p{lo[0], j, k};
+        p[d] += start;
+        return data + f.index(p[0], p[1], p[2]);
+    };
     // Copy the slab starting at layer `start` along d to (pack) or from (unpack) a buffer.
-    auto transfer = [&](int start, bool pack) {
+    auto transfer = [&](int start, bool pack, real* buffer) {
         std::size_t c = 0;
         for (int k = lo[2]; k < hi[2]; ++k)
-            for (int j = lo[1]; j < hi[1]; ++j)
-                for (int i = lo[0]; i < hi[0]; ++i) {
-                    Int3 p{i, j, k};
-                    p[d] += start;
-                    if (pack)
-                        send_[c++] = f(p);
-                    else
-                        f(p) = recv_[c++];
-                }
+            for (int j = lo[1]; j < hi[1]; ++j, c += row) {
+                real* r = row_at(start, j, k);
+                if (pack)
+                    std::copy(r, r + row, buffer + c);
+                else
+                    std::copy(buffer + c, buffer + c + row, r);
+            }
     };
     const int low = with_low ? neighbour_[d][0] : MPI_PROC_NULL;
     const int high = with_high ? neighbour_[d][1] : MPI_PROC_NULL;
     const int first = b[d], last = b[d] + n[d]; // owned range [first, last)
-    // Send my first g layers down, receive my high halo from above.
-    transfer(first, true);
-    MPI_Sendrecv(send_.data(), int(count), mpi_real(), low, 10 + d, recv_.data(), int(count),
-                 mpi_real(), high, 10 + d, cart_, MPI_STATUS_IGNORE);
-    if (high != MPI_PROC_NULL) transfer(last, false);
-    // Send my last g layers up, receive my low halo from below.
-    transfer(last - g, true);
-    MPI_Sendrecv(send_.data(), int(count), mpi_real(), high, 20 + d, recv_.data(), int(count),
-                 mpi_real(), low, 20 + d, cart_, MPI_STATUS_IGNORE);
-    if (low != MPI_PROC_NULL) transfer(first - g, false);
+    if (low == rank_ && high == rank_) {
+        // Periodic with one rank along d: the halos are copies of the own far layers (the
+        // values MPI would carry to this same rank), with no message.
+        for (int k = lo[2]; k < hi[2]; ++k)
+            for (int j = lo[1]; j < hi[1]; ++j) {
+                const real* a = row_at(first, j, k);
+                std::copy(a, a + row, row_at(last, j, k));
+            }
+        for (int k = lo[2]; k < hi[2]; ++k)
+            for (int j = lo[1]; j < hi[1]; ++j) {
+                const real* a = row_at(last - g, j, k);
+                std::copy(a, a + row, row_at(first - g, j, k));
+            }
+        return;
+    }
+    send_up_.resize(count);
+    recv_up_.resize(count);
+    // Both directions at once: my first g layers go down (and my high halo comes from
+    // above), my last g layers go up (and my low halo comes from below).
+    MPI_Request req[4];
+    MPI_Irecv(recv_.data(), int(count), mpi_real(), high, 10 + d, cart_, &req[0]);
+    MPI_Irecv(recv_up_.data(), int(count), mpi_real(), low, 20 + d, cart_, &req[1]);
+    transfer(first, true, send_.data());
+    MPI_Isend(send_.data(), int(count), mpi_real(), low, 10 + d, cart_, &req[2]);
+    transfer(last - g, true, send_up_.data());
+    MPI_Isend(send_up_.data(), int(count), mpi_real(), high, 20 + d, cart_, &req[3]);
+    MPI_Waitall(4, req, MPI_STATUSES_IGNORE);
+    if (high != MPI_PROC_NULL) transfer(last, false, recv_.data());
+    if (low != MPI_PROC_NULL) transfer(first - g, false, recv_up_.data());
 }
 
 real Decomposition::sum(real x) const {

@@ -76,7 +76,7 @@ class Decomposition {
     int rank_ = 0;
     int size_ = 1;
     MPI_Comm cart_ = MPI_COMM_NULL;
-    mutable std::vector<real> send_, recv_;
+    mutable std::vector<real> send_, recv_, send_up_, recv_up_;
 };
 
 } // namespace efsi

@@ -1,27 +1,43 @@
 #include "time/time_step_control.hpp"
 
 #include "core/error.hpp"
+#include "operators/flow_sweeps.hpp"
 
 #include <algorithm>
 #include <cmath>
 #include <limits>
+#include <vector>
 
 namespace efsi {
 
 void velocity_bounds(const Decomposition& dec, const FlowState& s, real& rate, real& speed) {
+    // Row by row over unit-stride pointers: the per-cell rate sum_d |v_d| / h_d in a row
+    // buffer (the same divisions in the same order as a per-cell loop), the maxima by
+    // sweep::max_abs / max_of (exact in any order), non-finite values counted apart.
     const GlobalGrid& g = dec.grid();
+    const Int3 n = dec.block().cells;
+    const int dim = s.u.dim;
+    std::vector<real> row_rate(std::size_t(std::max(n[0], 1)));
     real r = 0, m = 0;
     bool finite = true;
-    for_each_cell(dec.block().cells, [&](int i, int j, int k) {
-        real cell_rate = 0;
-        for (int d = 0; d < s.u.dim; ++d) {
-            const real v = std::abs(s.u[d](i, j, k));
-            if (!std::isfinite(v)) finite = false;
-            cell_rate += v / g.dx(d);
-            m = std::max(m, v);
+    for (int k = 0; k < n[2]; ++k)
+        for (int j = 0; j < n[1]; ++j) {
+            std::fill(row_rate.begin(), row_rate.end(), 0.0);
+            for (int d = 0; d < dim; ++d) {
+                const real* v = s.u[d].data().data() + s.u[d].index(0, j, k);
+                const real h = g.dx(d);
+                real* __restrict rr = row_rate.data();
+                int nonfinite = 0;
+                for (int i = 0; i < n[0]; ++i) {
+                    const real a = std::abs(v[i]);
+                    nonfinite += !(a <= std::numeric_limits<real>::max());
+                    rr[i] += a / h;
+                }
+                if (nonfinite) finite = false;
+                m = sweep::max_abs(v, n[0], m);
+            }
+            r = sweep::max_abs(row_rate.data(), n[0], r);
         }
-        r = std::max(r, cell_rate);
-    });
     const real nan = std::numeric_limits<real>::quiet_NaN();
     const real bad = dec.max(finite ? 0.0 : 1.0);
     rate = bad > 0 ? nan : dec.max(r);
