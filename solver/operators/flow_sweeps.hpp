@@ -71,8 +71,9 @@ inline int zero_wall_faces(bool wall_at_low_c, int j, int k, int n0, real* row) 
 ///
 /// Row by row over unit-stride restrict pointers (one per neighbour row, so the inner loop is
 /// plain streams the compiler vectorises without alias checks). The momentum flux through a
-/// face is shared by the two cells on either side of it; along x (unit stride) it is computed
-/// once per face into a row buffer and differenced, which saves a third of the arithmetic.
+/// face is shared by the two cells on either side of it, so it is computed once: along x
+/// into a row buffer that is then differenced, along y and z kept from the previous row and
+/// plane (the rows run with y, then z, increasing), which halves the arithmetic and loads.
 /// Every flux is the same expression, evaluated in the same order, as before, so the result
 /// is bit for bit that of the direct two-flux form (and of flow_operators.hpp to round-off).
 template <int C, int Dim>
@@ -91,6 +92,11 @@ void advection(const VelocityField& u, const GlobalGrid& g, Field& adv) {
     // i = 0..n0, stored at fx[i].
     std::vector<real> fx_buf(std::size_t(n0) + 1);
     real* __restrict fx = fx_buf.data();
+    // y and z fluxes through the high edges of the previous row / plane (see below).
+    std::vector<real> fy_buf(C != 1 ? std::size_t(n0) : 0);
+    std::vector<real> fz_buf(Dim > 2 && C != 2 ? std::size_t(n0) * std::size_t(L.n[1]) : 0);
+    real* fy = fy_buf.data();
+    real* fz = fz_buf.data();
     for_each_row(L.n, [&](int j, int k) {
         const std::ptrdiff_t r = L.row(u[C], j, k);
         const real* __restrict c0 = uc + r;
@@ -126,18 +132,25 @@ void advection(const VelocityField& u, const GlobalGrid& g, Field& adv) {
         for (int e = 1; e < Dim; ++e) {
             if (e == C) continue;
             const std::ptrdiff_t se = L.s[e];
-            const real* __restrict w0 = ue[e] + r;      // w at m
-            const real* __restrict wm = ue[e] + r - sc; // w at m - sc
             const real* __restrict wp = ue[e] + r + se;
             const real* __restrict wpm = ue[e] + r + se - sc;
             const real* __restrict cp = c0 + se;
-            const real* __restrict cm = c0 - se;
             const real ie = inv[e];
+            // The flux through the low (c,e) edge is the previous row's (y) or plane's (z)
+            // high one, kept in a buffer; computed afresh on the block's first row / plane.
+            real* __restrict prev = e == 1 ? fy : fz + std::ptrdiff_t(j) * n0;
+            if ((e == 1 ? j : k) == 0) {
+                const real* __restrict w0 = ue[e] + r;      // w at m
+                const real* __restrict wm = ue[e] + r - sc; // w at m - sc
+                const real* __restrict cm = c0 - se;
+                for (int i = 0; i < n0; ++i)
+                    prev[i] = 0.25 * (w0[i] + wm[i]) * (c0[i] + cm[i]);
+            }
             for (int i = 0; i < n0; ++i) {
                 // flux u_e u_c on the (c,e) edges of cells m + e_e and m
                 const real fh = 0.25 * (wp[i] + wpm[i]) * (cp[i] + c0[i]);
-                const real fl = 0.25 * (w0[i] + wm[i]) * (c0[i] + cm[i]);
-                o[i] += (fh - fl) * ie;
+                o[i] += (fh - prev[i]) * ie;
+                prev[i] = fh;
             }
         }
         for (int i = 0; i < n0; ++i)

@@ -25,7 +25,8 @@ BOUNDS = [
     Bound(r"triad_bytes_per_second", ">=", 1.0, "the STREAM triad ran in the same study run",
           tiers=("ci", "quick")),
     Bound(r"speedup_(np2|2ranks)", ">=", 1.8,
-          "2 ranks at least 1.8x faster than 1 on an idle machine (issue 22)", tiers=("full",)),
+          "2 ranks at least 1.8x faster than 1 on an idle machine (issue 22), with and "
+          "without the end-of-run checkpoint", tiers=("full",)),
     Bound(r"pressure_fraction_np1|solve_share", "<=", 0.3,
           "the pressure plus viscous solves at most 30 % of a flow step (issue 22)",
           tiers=("full",)),
@@ -65,19 +66,27 @@ def run(ctx):
                 "output.progress_every": "100000000"})
             wall = summ["wall_seconds"]
             stages = summ["stages"]
+            # The time stepping alone: the run's wall time less its one-off end-of-run
+            # output (the checkpoint, and field snapshots if any), which a 20-step run would
+            # weigh at 15-30 % and a production run of 1e5 steps not at all.
+            stepping = wall - stages.get("checkpoint", 0.0) - stages.get("output", 0.0)
             row = {"ranks": r, "repeat": rep, "decomposition": summ["ranks_per_dim"],
                    "cells": summ["cells"], "steps": summ["steps"], "wall_seconds": wall,
                    "seconds_per_step": wall / summ["steps"],
                    "cell_updates_per_second": summ["cell_updates_per_second"],
                    "pressure_fraction": stages["pressure_solve"] / wall,
-                   "viscous_fraction": stages.get("viscous_solve", 0.0) / wall,
+                   "stepping_seconds": stepping,
+                   "stepping_cell_updates_per_second": summ["cells"] * summ["steps"] / stepping,
+                   "pressure_share": stages["pressure_solve"] / stepping,
+                   "viscous_share": stages.get("viscous_solve", 0.0) / stepping,
                    "peak_rss_bytes_sum": summ.get("peak_rss_bytes_sum", float("nan")),
                    "peak_rss_bytes_max_rank": summ.get("peak_rss_bytes_max_rank",
                                                        float("nan")),
                    "pressure_iterations_final": summ["final"]["pressure_iterations"],
                    "loadavg_1min_after": os.getloadavg()[0], "stages": stages}
             all_runs.append(row)
-            if best is None or row["cell_updates_per_second"] > best["cell_updates_per_second"]:
+            if best is None or (row["stepping_cell_updates_per_second"]
+                                > best["stepping_cell_updates_per_second"]):
                 best = row
         rows.append(best)
         metrics[f"cell_updates_per_second_np{r}"] = best["cell_updates_per_second"]
@@ -89,11 +98,15 @@ def run(ctx):
     one, two = rows[0], rows[1]
     # Issue 22's names. The 1-rank figures are those of the 128^3 grid in the full tier (the
     # grid of the tier otherwise; grid_n says which).
-    metrics["cell_updates_per_second_1rank_128"] = one["cell_updates_per_second"]
-    metrics["speedup_2ranks"] = metrics["speedup_np2"]
-    metrics["pressure_share"] = one["pressure_fraction"]
-    metrics["viscous_share"] = one["viscous_fraction"]
-    metrics["solve_share"] = one["pressure_fraction"] + one["viscous_fraction"]
+    # They measure the time stepping (stepping_seconds: wall less the end-of-run checkpoint);
+    # the *_np<r> metrics above keep the whole wall time.
+    metrics["cell_updates_per_second_1rank_128"] = one["stepping_cell_updates_per_second"]
+    metrics["cell_updates_per_second_2ranks"] = two["stepping_cell_updates_per_second"]
+    metrics["speedup_2ranks"] = (two["stepping_cell_updates_per_second"]
+                                 / one["stepping_cell_updates_per_second"])
+    metrics["pressure_share"] = one["pressure_share"]
+    metrics["viscous_share"] = one["viscous_share"]
+    metrics["solve_share"] = one["pressure_share"] + one["viscous_share"]
     # Peak memory per cell: the 1-rank run's peak RSS (the issue's 1.4 kB per cell is a
     # 1-rank figure); on 2 ranks the ranks' peaks summed.
     metrics["bytes_per_cell"] = one["peak_rss_bytes_sum"] / one["cells"]
@@ -129,8 +142,12 @@ def run(ctx):
         f"on 1 and 2 MPI ranks. Machine: "
         f"{machine['cpu']}, {machine['cores']} cores; the 2-rank run uses both cores. "
         "cell_updates_per_second = cells x steps / wall time (summary.json); "
-        "pressure_fraction = pressure_share = stages.pressure_solve / wall_seconds (1 rank), "
-        "viscous_share likewise (0: the viscous term is explicit here); bytes_per_cell = peak "
+        "pressure_fraction = stages.pressure_solve / wall_seconds. Issue 22's metrics measure "
+        "the time stepping, stepping_seconds = wall_seconds - stages.checkpoint - "
+        "stages.output (the one-off end-of-run checkpoint): cell_updates_per_second_1rank_128 "
+        "and speedup_2ranks from it, pressure_share = stages.pressure_solve / "
+        "stepping_seconds (1 rank), viscous_share likewise (0: the viscous term is explicit "
+        "here), solve_share their sum; bytes_per_cell = peak "
         "RSS of the 1-rank run (summary.json peak_rss_bytes_sum) / cells; "
         "triad_bytes_per_second: STREAM triad of efsi_benchmarks in the same study run, "
         "bytes_per_cell_update = triad_bytes_per_second / cell_updates_per_second_1rank_128; "
