@@ -175,6 +175,11 @@ real Decomposition::max(real x) const {
     MPI_Allreduce(&x, &r, 1, mpi_real(), MPI_MAX, cart_);
     return r;
 }
+std::array<real, 3> Decomposition::max(const std::array<real, 3>& x) const {
+    std::array<real, 3> r{};
+    MPI_Allreduce(x.data(), r.data(), 3, mpi_real(), MPI_MAX, cart_);
+    return r;
+}
 real Decomposition::min(real x) const {
     real r = 0;
     MPI_Allreduce(&x, &r, 1, mpi_real(), MPI_MIN, cart_);

@@ -9,6 +9,8 @@
 
 #include <mpi.h>
 
+#include <array>
+
 #include <string>
 #include <vector>
 
@@ -60,6 +62,8 @@ class Decomposition {
 
     real sum(real x) const;
     real max(real x) const;
+    /// Element-wise max over the ranks of a few values, in one reduction.
+    std::array<real, 3> max(const std::array<real, 3>& x) const;
     real min(real x) const;
     std::int64_t sum(std::int64_t x) const;
     void barrier() const;

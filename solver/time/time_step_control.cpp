@@ -4,6 +4,7 @@
 #include "operators/flow_sweeps.hpp"
 
 #include <algorithm>
+#include <array>
 #include <cmath>
 #include <limits>
 #include <vector>
@@ -38,10 +39,11 @@ void velocity_bounds(const Decomposition& dec, const FlowState& s, real& rate, r
             }
             r = sweep::max_abs(row_rate.data(), n[0], r);
         }
+    // One reduction for the three (every step: each reduction is a wait for all ranks).
+    const std::array<real, 3> all = dec.max(std::array<real, 3>{finite ? 0.0 : 1.0, r, m});
     const real nan = std::numeric_limits<real>::quiet_NaN();
-    const real bad = dec.max(finite ? 0.0 : 1.0);
-    rate = bad > 0 ? nan : dec.max(r);
-    speed = bad > 0 ? nan : dec.max(m);
+    rate = all[0] > 0 ? nan : all[1];
+    speed = all[0] > 0 ? nan : all[2];
 }
 
 TimeStepChoice choose_time_step(const Config& cfg, const Decomposition& dec, const FlowState& s,
