@@ -16,10 +16,43 @@ bool on_box_face(const Decomposition& dec, const BoxBoundaries& bc, int e, int s
            p[e] == (side == 0 ? 0 : dec.block().cells[e] - 1);
 }
 
+/// fn(j, k) for each owned row; the rows' points are f.data() + f.index(0, j, k) + i.
+template <class F>
+void for_each_owned_row(const Decomposition& dec, F&& fn) {
+    const Int3 n = dec.block().cells;
+    for (int k = 0; k < n[2]; ++k)
+        for (int j = 0; j < n[1]; ++j)
+            fn(j, k);
+}
+
+real* row_of(Field& f, int j, int k) {
+    return f.data().data() + f.index(0, j, k);
+}
+const real* row_of(const Field& f, int j, int k) {
+    return f.data().data() + f.index(0, j, k);
+}
+
+/// Row by row over raw pointers, summed in the order of a cell loop (x fastest, one
+/// accumulator), so the same value to the last bit.
 real mean_over_block(const Decomposition& dec, const Field& f) {
     real s = 0;
-    for_each_cell(dec.block().cells, [&](int i, int j, int k) { s += f(i, j, k); });
+    const int n0 = dec.block().cells[0];
+    for_each_owned_row(dec, [&](int j, int k) {
+        const real* r = row_of(f, j, k);
+        for (int i = 0; i < n0; ++i)
+            s += r[i];
+    });
     return dec.sum(s) / real(dec.grid().total_cells());
+}
+
+/// f -= value at the owned points.
+void subtract(const Decomposition& dec, Field& f, real value) {
+    const int n0 = dec.block().cells[0];
+    for_each_owned_row(dec, [&](int j, int k) {
+        real* r = row_of(f, j, k);
+        for (int i = 0; i < n0; ++i)
+            r[i] -= value;
+    });
 }
 
 /// The hypre settings behind "auto" (and behind "fft" where it cannot apply).
@@ -304,8 +337,7 @@ SolveReport SmacStepper::pressure_solve(real dt) {
             sweep::divergence<2, false>(ustar_, g, scale, rhs_);
         else
             sweep::divergence<3, false>(ustar_, g, scale, rhs_);
-        const real mean = mean_over_block(dec_, rhs_);
-        for_each_cell(dec_.block().cells, [&](int i, int j, int k) { rhs_(i, j, k) -= mean; });
+        subtract(dec_, rhs_, mean_over_block(dec_, rhs_));
         return pressure_fft_->solve(rhs_, phi_);
     }
     const real speed = ustar_.dim == 2 ? sweep::divergence<2>(ustar_, g, scale, rhs_)
@@ -331,8 +363,13 @@ void SmacStepper::correction(FlowState& s, real dt) {
         sweep::correction<C, Dim>(ustar_[C], phi_, g, scale, wall_at_low(C), s.u[C]);
     });
     const real mean = mean_over_block(dec_, phi_);
-    for_each_cell(dec_.block().cells,
-                  [&](int i, int j, int k) { s.p(i, j, k) += phi_(i, j, k) - mean; });
+    const int n0 = dec_.block().cells[0];
+    for_each_owned_row(dec_, [&](int j, int k) {
+        real* p = row_of(s.p, j, k);
+        const real* ph = row_of(phi_, j, k);
+        for (int i = 0; i < n0; ++i)
+            p[i] += ph[i] - mean;
+    });
     halos_.fill(s.p);
 }
 
