@@ -4,7 +4,6 @@
 #include "bodies/body_test_support.hpp"
 #include "membrane/membrane_body.hpp"
 #include "membrane/membrane_force.hpp"
-#include "solid/solid_mechanics.hpp"
 
 #include <cmath>
 
@@ -57,4 +56,16 @@ interface = "smoothed"
         });
     EXPECT_LT(efsi::test::global_max(leak), 1e-8);
     EXPECT_LT(efsi::test::global_max(trace), 1e-8);
+}
+
+TEST(MembraneLimit, ViscousAtLowReynoldsInertialAtHigh) {
+    GlobalGrid g;
+    g.cells = {24, 20, 1};
+    g.length = {1.2, 1.5, 0.05};
+    g.dim = 2;
+    EXPECT_EQ(membrane_time_step_limit(g, 1.0, 1.0, 0.0), 0.0);
+    const real h = 0.05;
+    EXPECT_DOUBLE_EQ(membrane_time_step_limit(g, 1e-6, 1.0, 2.0), 4 * 1.0 * h / 2.0);
+    EXPECT_DOUBLE_EQ(membrane_time_step_limit(g, 1e3, 1e-9, 2.0),
+                     std::sqrt(1e3 * h * h * h / (2 * 3.141592653589793 * 2.0)));
 }

@@ -1,5 +1,5 @@
-// The solid's pointwise pieces (solid/solid_mechanics.cpp): the elastic time-step limit of
-// the stiffest solid, the mixture viscosity, and no elastic force from B = I.
+// The solid's time-step limit (solid/solid_mechanics.cpp): the elastic limit of the
+// stiffest solid, bit for bit the minimum over the solids.
 #include "solid/solid_mechanics.hpp"
 #include "test_support.hpp"
 
@@ -27,13 +27,4 @@ TEST(ElasticLimit, FollowsTheStiffestSolid) {
     EXPECT_DOUBLE_EQ(one, 0.5 * 0.05 / std::sqrt(8.0 / 2.0));
     // The minimum over solids is the limit of the stiffest one, bit for bit.
     EXPECT_EQ(elastic_time_step_limit(g, 2.0, {SolidLaw{2.0, 1.0}, SolidLaw{8.0, 1.0}}), one);
-}
-
-TEST(MembraneLimit, ViscousAtLowReynoldsInertialAtHigh) {
-    const GlobalGrid g = grid_2d();
-    EXPECT_EQ(membrane_time_step_limit(g, 1.0, 1.0, 0.0), 0.0);
-    const real h = 0.05;
-    EXPECT_DOUBLE_EQ(membrane_time_step_limit(g, 1e-6, 1.0, 2.0), 4 * 1.0 * h / 2.0);
-    EXPECT_DOUBLE_EQ(membrane_time_step_limit(g, 1e3, 1e-9, 2.0),
-                     std::sqrt(1e3 * h * h * h / (2 * 3.141592653589793 * 2.0)));
 }
