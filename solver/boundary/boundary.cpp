@@ -28,7 +28,7 @@ void HaloFiller::apply_wall(Field& f, int d, int side, Mirror mirror, real wall_
     const Int3 h = f.halo();
     const int g = h[d];
     // Sweep the whole wall plane, halos of the other directions included.
-    Int3 lo = -h, hi = n + h;
+    Int3 lo{-h[0], -h[1], -h[2]}, hi{n[0] + h[0], n[1] + h[1], n[2] + h[2]};
     lo[d] = 0;
     hi[d] = 1;
     // Index along d of the l-th ghost and of the interior point it mirrors.
@@ -79,8 +79,8 @@ void HaloFiller::fill(Field& f, const Patch& patch) const {
     const Int3 h = f.halo();
     for (int d = 0; d < dec_.dim(); ++d) {
         dec_.exchange(f, d, patch.exchange[d][0], patch.exchange[d][1]);
-        Int3 lo = b - h;
-        Int3 hi = b + n + h;
+        Int3 lo{b[0] - h[0], b[1] - h[1], b[2] - h[2]};
+        Int3 hi{b[0] + n[0] + h[0], b[1] + n[1] + h[1], b[2] + n[2] + h[2]};
         for (int side = 0; side < 2; ++side) {
             if (patch.exchange[d][side]) continue;
             Box plane{lo, hi};

@@ -82,7 +82,7 @@ class Field {
     }
     /// The owned points as a box of block-local indices.
     Box owned() const {
-        return Box{begin_, begin_ + cells_};
+        return Box{begin_, {begin_[0] + cells_[0], begin_[1] + cells_[1], begin_[2] + cells_[2]}};
     }
     /// Block-local index of the first owned point (0 for a whole-block field).
     const Int3& begin() const {
