@@ -9,7 +9,7 @@ cd "$(dirname "$0")/.."
 
 PACKAGES=(
   build-essential cmake make pkg-config git clang-format
-  libopenmpi-dev openmpi-bin libhypre-dev libhdf5-openmpi-dev libeigen3-dev
+  libopenmpi-dev openmpi-bin libhypre-dev libhdf5-openmpi-dev
   libfftw3-dev libfftw3-mpi-dev
   libtomlplusplus-dev libcli11-dev libfmt-dev nlohmann-json3-dev
   libgtest-dev libgmock-dev libbenchmark-dev

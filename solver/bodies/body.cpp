@@ -19,7 +19,7 @@ void Body::allocate(const Patch& patch) {
     patch_ = patch;
     phi_ = make_field("phi");
     phi_.fill(0);
-    const std::string base = kind_ == BodyKind::Solid ? "B" : "Gs";
+    const std::string base = kind_ == BodyKind::Membrane ? "Gs" : "B";
     tensor_.comp.clear();
     for (int s = 0; carries_tensor_ && s < SymmetricTensorField::count(dim_); ++s) {
         tensor_.comp.push_back(make_field(SymmetricTensorField::component_name(base, s, dim_)));

@@ -5,14 +5,13 @@
 
 #include "bodies/patch.hpp"
 #include "bodies/symmetric_tensor.hpp"
+#include "config/body_config.hpp"
 #include "grid/field.hpp"
 
 #include <optional>
 #include <string>
 
 namespace efsi {
-
-enum class BodyKind { Solid, Membrane };
 
 class Body {
   public:

@@ -4,7 +4,8 @@
 #include "interface/geometry.hpp"
 #include "interface/shapes.hpp"
 #include "io/hdf5_file.hpp"
-#include "membrane/membrane_force.hpp"
+#include "membrane/surface_velocity.hpp"
+#include "solid/solid_mechanics.hpp"
 
 #include <fmt/core.h>
 
@@ -17,21 +18,26 @@ namespace {
 
 std::unique_ptr<Shape> make_shape(const BodyConfig& b) {
     const Matrix3 rot = b.angle != 0 ? axis_angle_rotation(b.axis, b.angle) : identity_rotation();
-    if (b.shape == "sphere") return make_sphere(b.centre, b.radius);
-    if (b.shape == "ellipsoid") return make_ellipsoid(b.centre, b.semi_axes, rot);
-    if (b.shape == "biconcave") {
+    switch (b.shape) {
+    case BodyShape::Sphere:
+        return make_sphere(b.centre, b.radius);
+    case BodyShape::Ellipsoid:
+        return make_ellipsoid(b.centre, b.semi_axes, rot);
+    case BodyShape::Biconcave: {
         EvansFungCoefficients k;
         k.r0 = b.radius;
         return make_biconcave_disc(b.centre, rot, k);
     }
-    if (b.shape == "cylinder") return make_cylinder(b.centre, b.radius, rot);
-    if (b.shape == "box") return make_box(b.centre, b.half_sizes, rot);
-    if (b.shape == "slab") return make_slab(b.centre, b.normal, b.thickness);
-    return nullptr; // mask
-}
-
-BodyKind kind_of(const BodyConfig& b) {
-    return b.kind == "membrane" ? BodyKind::Membrane : BodyKind::Solid;
+    case BodyShape::Cylinder:
+        return make_cylinder(b.centre, b.radius, rot);
+    case BodyShape::Box:
+        return make_box(b.centre, b.half_sizes, rot);
+    case BodyShape::Slab:
+        return make_slab(b.centre, b.normal, b.thickness);
+    case BodyShape::Mask:
+        return nullptr;
+    }
+    return nullptr;
 }
 
 /// Every cell with phi above this counts as occupied when fitting a patch: 0, so a patch
@@ -42,47 +48,12 @@ constexpr real occupied_threshold = 0;
 
 BodySystem::BodySystem(const Config& config, const Decomposition& dec, const HaloFiller& halos)
     : cfg_(config), dec_(dec), halos_(halos) {
-    VofOptions vo;
-    vo.scheme = parse_vof_scheme(config.vof.scheme);
-    vo.beta_thinc = config.vof.beta_thinc;
-    vo.beta_mthinc = config.vof.beta_mthinc;
+    const BodyContext ctx{config, dec, halos};
     for (const BodyConfig& b : config.bodies) {
-        // A pinned solid never deforms: B stays the identity, so it is not stored.
-        bodies_.push_back(std::make_unique<Body>(b.name, kind_of(b), b.bending, dec.dim(),
-                                                 b.kind != "passive" && !b.pinned));
-        // A smoothed body keeps its tanh profile (1 - tanh(L/eps))/2: MTHINC reconstructs
-        // exactly (1 + tanh(beta s/h))/2 in each cell, so beta = h/eps = 1/smoothing_width
-        // carries that profile without sharpening or smearing it (the smoothed VOF).
-        VofOptions body_vo = vo;
-        if (b.interface == "smoothed") {
-            body_vo.scheme = VofScheme::Mthinc;
-            body_vo.beta_mthinc = 1.0 / b.smoothing_width;
-        }
-        vof_.push_back(std::make_unique<VofAdvection>(halos, body_vo));
-        transport_.push_back(std::make_unique<BodyTransport>(halos));
-        // A solid's B is extended from its mostly solid cells into the rest (docs/method.md).
-        // A membrane's Gs is extended from the core of its band to the whole band: layers
-        // enough to reach the band's edge (phi = band cutoff 1e-5, |psi| = 5.75 eps) from
-        // the core's (|psi| = eps atanh(1 - 2 t)), plus one for the force's stencil.
-        // (The reader leaves extension_threshold at 0 for passive bodies.)
-        const bool extend = b.extension_threshold > 0 && !b.pinned;
-        const bool membrane = b.kind == "membrane";
-        const real cutoff = MembraneForceSettings{}.band_cutoff;
-        const int layers = membrane ? int(std::ceil((std::atanh(1 - 2 * cutoff) -
-                                                     std::atanh(1 - 2 * b.extension_threshold)) *
-                                                    b.smoothing_width)) +
-                                          2
-                                    : 4;
-        const bool normal = membrane && !b.pinned && b.strain_extension == "normal";
-        extension_.push_back(extend && !normal ? std::make_unique<TensorExtension>(
-                                                     halos, b.extension_threshold, layers, membrane)
-                                               : nullptr);
-        normal_extension_.push_back(normal ? std::make_unique<NormalExtension>(
-                                                 halos, b.name, b.smoothing_width, b.strain_core)
-                                           : nullptr);
-        const bool surface = b.carried_by_surface_velocity();
-        carried_by_surface_.push_back(surface);
-        if (surface && !surface_velocity_) {
+        physics_.push_back(make_body_physics(b, ctx));
+        bodies_.push_back(std::make_unique<Body>(b.name, b.kind, b.bending, dec.dim(),
+                                                 physics_.back()->carries_tensor()));
+        if (b.carried_by_surface_velocity() && !surface_velocity_) {
             // One instance for every membrane: its halo covers the largest reach asked for.
             real reach = 0;
             for (const BodyConfig& other : config.bodies)
@@ -110,7 +81,8 @@ void BodySystem::initialise_body(std::size_t i) {
     // shrinks the patch to the body plus its margin before any step is taken.
     body.allocate(make_patch(Box{{0, 0, 0}, g.cells}, dec_));
     Field& phi = body.phi();
-    if (bc.shape == "mask") {
+    const auto shape = make_shape(bc); // null for a mask
+    if (bc.shape == BodyShape::Mask) {
         const auto file = std::filesystem::path(bc.mask_file).is_absolute()
                               ? std::filesystem::path(bc.mask_file)
                               : cfg_.case_dir / bc.mask_file;
@@ -145,8 +117,7 @@ void BodySystem::initialise_body(std::size_t i) {
                                          "values that are not finite",
                                          bc.name, file.string(), bc.mask_dataset));
     } else {
-        const auto shape = make_shape(bc);
-        if (bc.interface == "smoothed") {
+        if (bc.interface == InterfaceKind::Smoothed) {
             // phi = (1 - tanh(L / eps)) / 2, L the shape's distance-like level function.
             const real eps = bc.smoothing_width * g.dx(0);
             for_each_in(phi.owned(), [&](int a, int b, int c) {
@@ -159,66 +130,7 @@ void BodySystem::initialise_body(std::size_t i) {
         }
     }
     halos_.fill(phi, body.patch());
-    if (body.kind() == BodyKind::Membrane && bc.shape != "mask") {
-        // Gs = P_R = I - n_R n_R, n_R the normal of the shape's level sets through each
-        // point (exact on the surface, its natural extension off it), by central
-        // differences of the level function with a step far below the cell size.
-        const auto shape = make_shape(bc);
-        const real step = 1e-6 * g.dx(0);
-        for_each_in(phi.owned(), [&](int a, int b, int c) {
-            const Real3 x = position(g, dec_.block(), Location::Cell, a, b, c);
-            Real3 n{0, 0, 0};
-            real len = 0;
-            for (int d = 0; d < g.dim; ++d) {
-                Real3 xp = x, xm = x;
-                xp[d] += step;
-                xm[d] -= step;
-                n[d] = shape->level(xp) - shape->level(xm);
-                len += n[d] * n[d];
-            }
-            len = std::sqrt(len);
-            for (int r = 0; r < 3; ++r)
-                for (int q = r; q < 3; ++q) {
-                    const int slot = SymmetricTensorField::slot(r, q, g.dim);
-                    if (slot < 0) continue;
-                    const real nn = len > 0 ? n[r] * n[q] / (len * len) : 0.0;
-                    body.tensor().comp[slot](a, b, c) = (r == q ? 1.0 : 0.0) - nn;
-                }
-        });
-        for (Field& comp : body.tensor().comp)
-            halos_.fill(comp, body.patch());
-        if (Field* kr = body.reference_curvature()) {
-            // kappa_R = the curvature of the shape's level set through each point
-            // (level_set_curvature: the mean curvature in 3D, the section's in 2D; 1/r
-            // around a sphere), exact on the surface. Gradient and Hessian by central
-            // differences of the level function with a step of h/100: truncation
-            // (h/100)^2 relative, round-off ~1e-16 |L| / (h/100)^2, both below 1e-7.
-            const real s = 1e-2 * g.dx(0);
-            for_each_in(phi.owned(), [&](int a, int b, int c) {
-                const Real3 x = position(g, dec_.block(), Location::Cell, a, b, c);
-                auto L = [&](int d1, int s1, int d2, int s2) {
-                    Real3 y = x;
-                    y[d1] += s1 * s;
-                    y[d2] += s2 * s;
-                    return shape->level(y);
-                };
-                const real l0 = shape->level(x);
-                Real3 grad{0, 0, 0};
-                std::array<std::array<real, 3>, 3> H{};
-                for (int d = 0; d < g.dim; ++d) {
-                    const real lp = L(d, 1, d, 0), lm = L(d, -1, d, 0);
-                    grad[d] = (lp - lm) / (2 * s);
-                    H[d][d] = (lp - 2 * l0 + lm) / (s * s);
-                    for (int e = d + 1; e < g.dim; ++e)
-                        H[d][e] = H[e][d] =
-                            (L(d, 1, e, 1) - L(d, 1, e, -1) - L(d, -1, e, 1) + L(d, -1, e, -1)) /
-                            (4 * s * s);
-                }
-                (*kr)(a, b, c) = level_set_curvature(H, grad, g.dim);
-            });
-            halos_.fill(*kr, body.patch());
-        }
-    }
+    physics_[i]->initialise(body, shape.get());
 }
 
 Box BodySystem::occupied_box(const Body& b) const {
@@ -228,7 +140,7 @@ Box BodySystem::occupied_box(const Body& b) const {
     if (!b.patch().empty())
         for_each_in(b.phi().owned(), [&](int i, int j, int k) {
             if (b.phi()(i, j, k) <= occupied_threshold) return;
-            const Int3 p{i + off[0], j + off[1], k + off[2]};
+            const Int3 p = Int3{i, j, k} + off;
             for (int d = 0; d < 3; ++d) {
                 ext[d] = std::min(ext[d], real(p[d]));
                 ext[3 + d] = std::max(ext[3 + d], real(p[d] + 1));
@@ -245,7 +157,7 @@ Box BodySystem::occupied_box(const Body& b) const {
 void BodySystem::track_patches(bool force) {
     for (std::size_t i = 0; i < bodies_.size(); ++i) {
         Body& body = *bodies_[i];
-        if (cfg_.bodies[i].pinned && !force) continue; // never moves
+        if (!physics_[i]->moves() && !force) continue;
         const int m = cfg_.bodies[i].margin;
         Box occ = occupied_box(body);
         if (occ.empty()) {
@@ -276,32 +188,65 @@ void BodySystem::advance(const VelocityField& u, real dt, long step, StageTimers
     // One copy of u with wide halos per step serves every membrane's surface velocity.
     if (surface_velocity_)
         timers.time("bodies_surface_velocity", [&] { surface_velocity_->load(u); });
-    for (std::size_t i = 0; i < bodies_.size(); ++i) {
-        if (cfg_.bodies[i].pinned) continue; // held at its initial phi (and B = I)
-        Body& body = *bodies_[i];
-        // The tensors first, with the velocity gradient of this step; then phi.
-        if (!body.tensor().comp.empty()) {
-            const VelocityField* carrier = &u;
-            if (carried_by_surface_[i])
-                timers.time("bodies_surface_velocity", [&] {
-                    carrier = &surface_velocity_->compute(body, cfg_.bodies[i].smoothing_width,
-                                                          cfg_.bodies[i].surface_velocity_reach);
-                });
-            timers.time("bodies_tensor", [&] { transport_[i]->advance(body, *carrier, dt); });
-        }
-        timers.time("bodies_vof", [&] {
-            local[i] = vof_[i]->advance_local(body.phi(), u, dt, step, &body.patch());
-        });
-        if (extension_[i]) timers.time("bodies_extension", [&] { extension_[i]->apply(body); });
-        if (normal_extension_[i])
-            timers.time("bodies_extension", [&] { normal_extension_[i]->apply(body); });
-    }
+    const BodyStep s{u, dt, step, timers, surface_velocity_.get()};
+    for (std::size_t i = 0; i < bodies_.size(); ++i)
+        if (physics_[i]->moves()) local[i] = physics_[i]->advance(*bodies_[i], s);
     timers.time("bodies_vof_reduce", [&] {
         for (std::size_t i = 0; i < bodies_.size(); ++i)
-            if (!cfg_.bodies[i].pinned)
+            if (physics_[i]->moves())
                 clipped_[i] = VofAdvection::reduce(dec_, local[i]).clipped_volume;
     });
     timers.time("bodies_patches", [&] { track_patches(false); });
+}
+
+void BodySystem::update_viscosity(Field& mu) const {
+    std::vector<const Body*> list;
+    std::vector<SolidLaw> laws;
+    for (std::size_t i = 0; i < bodies_.size(); ++i) {
+        list.push_back(bodies_[i].get());
+        laws.push_back(SolidLaw{0, physics_[i]->viscosity()});
+    }
+    update_mixture_viscosity(mu, cfg_.fluid.viscosity, list, laws);
+}
+
+bool BodySystem::viscosity_varies() const {
+    for (const auto& p : physics_)
+        if (p->viscosity() != cfg_.fluid.viscosity) return true;
+    return false;
+}
+
+bool BodySystem::adds_force() const {
+    for (const auto& p : physics_)
+        if (p->adds_force()) return true;
+    return false;
+}
+
+void BodySystem::add_forces(VelocityField& force) {
+    for (int c = 0; c < force.dim; ++c)
+        force[c].fill(0);
+    for (std::size_t i = 0; i < bodies_.size(); ++i)
+        physics_[i]->add_force(*bodies_[i], force);
+}
+
+bool BodySystem::add_pinning(Field& chi) const {
+    bool any = false;
+    for (std::size_t i = 0; i < bodies_.size(); ++i)
+        any = physics_[i]->add_pinning(*bodies_[i], chi) || any;
+    return any;
+}
+
+std::vector<TimeStepLimit> BodySystem::time_step_limits() const {
+    std::vector<TimeStepLimit> out;
+    for (const auto& p : physics_)
+        for (const TimeStepLimit& l : p->time_step_limits()) {
+            auto same = std::find_if(out.begin(), out.end(),
+                                     [&](const TimeStepLimit& o) { return o.name == l.name; });
+            if (same == out.end())
+                out.push_back(l);
+            else
+                same->dt = std::min(same->dt, l.dt);
+        }
+    return out;
 }
 
 real BodySystem::vof_time_step_limit(const GlobalGrid& g, real max_speed) {

@@ -1,17 +1,14 @@
-// All the bodies of a run: created from the case's [[body]] sections, carried by the flow
-// (VOF for phi, upper-convected transport for B / Gs, kappa_R), kept on patches that
-// follow them, and measured. Every method is collective (all ranks call it).
+// All the bodies of a run: created from the case's [[body]] sections, each with the physics
+// of its kind (bodies/body_physics.hpp), carried by the flow, kept on patches that follow
+// them, and measured. Every method is collective (all ranks call it).
 #pragma once
 
 #include "bodies/body.hpp"
-#include "bodies/transport.hpp"
+#include "bodies/body_physics.hpp"
 #include "boundary/boundary.hpp"
 #include "config/config.hpp"
-#include "interface/vof_advection.hpp"
-#include "membrane/normal_extension.hpp"
-#include "membrane/surface_velocity.hpp"
-#include "solid/tensor_extension.hpp"
 #include "time/stage_timers.hpp"
+#include "time/time_step_control.hpp"
 
 #include <memory>
 #include <string>
@@ -45,12 +42,25 @@ class BodySystem {
     BodySystem(const Config& config, const Decomposition& dec, const HaloFiller& halos);
     ~BodySystem();
 
-    /// phi (and the tensors at identity / P_R) from each body's shape or mask.
+    /// phi from each body's shape or mask, then each body's own initial state (tensors).
     void initialise();
     /// Carry every body by the face velocity u (halos filled) over dt.
     void advance(const VelocityField& u, real dt, long step, StageTimers& timers);
     /// Re-fit every patch to its body (after initialisation, restart, or motion).
     void track_patches(bool force = false);
+
+    /// mu(x) = mu_f + sum_k phi_k (mu_k - mu_f) on the owned cells.
+    void update_viscosity(Field& mu) const;
+    /// Whether some body's material viscosity differs from the fluid's.
+    bool viscosity_varies() const;
+    /// Whether some body adds a force to the flow.
+    bool adds_force() const;
+    /// Zero `force`, then add every body's force density to it (body after body).
+    void add_forces(VelocityField& force);
+    /// Add every fixed wall's phi / (tau / dt) to `chi`; returns whether there is one.
+    bool add_pinning(Field& chi) const;
+    /// The bodies' explicit time-step limits, one per name (the smallest over the bodies).
+    std::vector<TimeStepLimit> time_step_limits() const;
 
     std::vector<BodyDiagnostics> measure() const;
     /// Largest time step the VOF advection accepts: 0.45 min(dx) / max|u| (0 = no limit).
@@ -58,6 +68,8 @@ class BodySystem {
 
     std::vector<std::unique_ptr<Body>>& bodies() { return bodies_; }
     const std::vector<std::unique_ptr<Body>>& bodies() const { return bodies_; }
+    /// physics()[i] is the physics of bodies()[i].
+    const std::vector<std::unique_ptr<BodyPhysics>>& physics() const { return physics_; }
     bool empty() const { return bodies_.empty(); }
 
   private:
@@ -68,15 +80,10 @@ class BodySystem {
     const Decomposition& dec_;
     const HaloFiller& halos_;
     std::vector<std::unique_ptr<Body>> bodies_;
-    std::vector<std::unique_ptr<VofAdvection>> vof_;
-    std::vector<std::unique_ptr<BodyTransport>> transport_;
-    std::vector<std::unique_ptr<TensorExtension>> extension_; ///< null: B not extended
-    /// Membranes with strain_extension = normal (then extension_ is null).
-    std::vector<std::unique_ptr<NormalExtension>> normal_extension_;
+    std::vector<std::unique_ptr<BodyPhysics>> physics_;
     /// Carries the membranes' Gs with their surfaces' velocities; one for all bodies (null:
-    /// no body uses it). carried_by_surface_[i]: body i's Gs is carried by it (else by u).
+    /// no body uses it).
     std::unique_ptr<SurfaceVelocity> surface_velocity_;
-    std::vector<bool> carried_by_surface_;
     std::vector<real> clipped_;
 };
 

@@ -26,8 +26,8 @@ inline real face_value(const Field& s, int d, const Int3& p, real w) {
 
 } // namespace
 
-Matrix33 velocity_gradient_at(const VelocityField& u, const GlobalGrid& g, const Int3& p) {
-    Matrix33 L{};
+Matrix3 velocity_gradient_at(const VelocityField& u, const GlobalGrid& g, const Int3& p) {
+    Matrix3 L{};
     for (int i = 0; i < u.dim; ++i)
         for (int j = 0; j < u.dim; ++j) {
             if (i == j) {
@@ -61,7 +61,7 @@ void BodyTransport::rates(const Body& body, const SymmetricTensorField& t, const
     const int n = SymmetricTensorField::count(dim);
     for_each_in(body.patch().local, [&](int i, int j, int k) {
         const Int3 p{i, j, k};
-        const Matrix33 L = velocity_gradient_at(u, g, p);
+        const Matrix3 L = velocity_gradient_at(u, g, p);
         for (int a = 0; a < 3; ++a)
             for (int b = a; b < 3; ++b) {
                 const int s = SymmetricTensorField::slot(a, b, dim);

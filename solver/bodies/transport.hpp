@@ -20,10 +20,8 @@
 
 namespace efsi {
 
-using Matrix33 = std::array<std::array<real, 3>, 3>;
-
 /// Velocity gradient L_ij = dv_i/dx_j at the centre of cell p (zero rows/columns past dim).
-Matrix33 velocity_gradient_at(const VelocityField& u, const GlobalGrid& g, const Int3& p);
+Matrix3 velocity_gradient_at(const VelocityField& u, const GlobalGrid& g, const Int3& p);
 
 /// -u.grad s at the centre of cell p (MUSCL / van Leer, flux form with divergence correction).
 real advection_rate_at(const Field& s, const VelocityField& u, const GlobalGrid& g, const Int3& p);

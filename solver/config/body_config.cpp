@@ -13,18 +13,31 @@ namespace efsi {
 
 namespace {
 
+/// Read the string key `key` as one of `names` (the reader refuses any other value, naming
+/// the key and the allowed ones) and return it as the enum at that index.
+template <class E, std::size_t N>
+E read_choice(TableReader& r, const std::string& key, E deflt,
+              const std::array<std::string_view, N>& names, const std::string& meaning,
+              bool required = false) {
+    const std::vector<std::string> choices(names.begin(), names.end());
+    const std::string v =
+        r.string(key, required ? std::nullopt : std::optional<std::string>(names[int(deflt)]),
+                 choices, meaning);
+    return E(std::find(choices.begin(), choices.end(), v) - choices.begin());
+}
+
 /// Half-extent of the shape's bounding box about its centre (conservative when rotated);
 /// negative entries mean "unbounded along that direction" (slab, cylinder axis).
 Real3 half_extent(const BodyConfig& b, int dim) {
     const real inf = -1;
-    if (b.shape == "sphere") return {b.radius, b.radius, b.radius};
-    if (b.shape == "ellipsoid") {
+    if (b.shape == BodyShape::Sphere) return {b.radius, b.radius, b.radius};
+    if (b.shape == BodyShape::Ellipsoid) {
         const real m = std::max({b.semi_axes[0], b.semi_axes[1], b.semi_axes[2]});
         return {m, m, m};
     }
-    if (b.shape == "biconcave") return {b.radius, b.radius, b.radius};
-    if (b.shape == "cylinder") return {b.radius, b.radius, dim == 2 ? b.radius : inf};
-    if (b.shape == "box") {
+    if (b.shape == BodyShape::Biconcave) return {b.radius, b.radius, b.radius};
+    if (b.shape == BodyShape::Cylinder) return {b.radius, b.radius, dim == 2 ? b.radius : inf};
+    if (b.shape == BodyShape::Box) {
         const real m = std::hypot(b.half_sizes[0], b.half_sizes[1], b.half_sizes[2]);
         return {m, m, m};
     }
@@ -33,6 +46,14 @@ Real3 half_extent(const BodyConfig& b, int dim) {
 
 } // namespace
 
+MembraneLawKind parse_membrane_law(const std::string& name, const std::string& key) {
+    for (std::size_t k = 0; k < membrane_law_names.size(); ++k)
+        if (membrane_law_names[k] == name) return MembraneLawKind(k);
+    throw InputError(fmt::format("{} = \"{}\": unknown membrane law (allowed: neo_hookean, "
+                                 "skalak)",
+                                 key, name));
+}
+
 std::vector<BodyConfig> read_bodies(TableReader& top, const GlobalGrid& grid,
                                     const std::array<bool, 3>& periodic) {
     std::vector<BodyConfig> bodies;
@@ -40,11 +61,10 @@ std::vector<BodyConfig> read_bodies(TableReader& top, const GlobalGrid& grid,
     for (TableReader& r : top.tables("body", "the bodies: one [[body]] section each")) {
         BodyConfig b;
         b.name = r.string("name", std::nullopt, {}, "unique name (used in output names)");
-        b.kind = r.string("kind", "passive", {"passive", "solid", "membrane"},
-                          "passive (phi only), solid (carries B) or membrane (carries Gs)");
-        b.shape = r.string("shape", std::nullopt,
-                           {"sphere", "ellipsoid", "biconcave", "cylinder", "box", "slab", "mask"},
-                           "initial shape");
+        b.kind = read_choice(r, "kind", BodyKind::Passive, body_kind_names,
+                             "passive (phi only), solid (carries B) or membrane (carries Gs)");
+        b.shape = read_choice(r, "shape", BodyShape::Sphere, body_shape_names, "initial shape",
+                              /*required=*/true);
         b.centre = r.vector3("centre", Real3{0, 0, 0}, Range{}, "m", "centre of the shape");
         b.radius = r.number("radius", 0.0, Range::non_negative(), "m",
                             "sphere / cylinder radius; biconcave R0 (default 3.91e-6)");
@@ -59,9 +79,9 @@ std::vector<BodyConfig> read_bodies(TableReader& top, const GlobalGrid& grid,
         b.mask_file = r.string("mask_file", "", {}, "mask: HDF5 file, relative to the case folder");
         b.mask_dataset = r.string("mask_dataset", "mask", {},
                                   "mask: dataset [nz][ny][nx] of cell volume fractions in [0,1]");
-        b.interface = r.string("interface", "sharp", {"sharp", "smoothed"},
-                               "sharp: exact cell volume fractions; smoothed: tanh profile "
-                               "(the membrane's smoothed VOF)");
+        b.interface = read_choice(r, "interface", InterfaceKind::Sharp, interface_names,
+                                  "sharp: exact cell volume fractions; smoothed: tanh profile "
+                                  "(the membrane's smoothed VOF)");
         b.smoothing_width = r.number("smoothing_width", 1.0, Range::positive(), "cells",
                                      "smoothed: width eps of phi = (1 - tanh(L/eps))/2");
         b.subsamples = r.integer("subsamples", 8, Range::closed(1, 64),
@@ -84,8 +104,8 @@ std::vector<BodyConfig> read_bodies(TableReader& top, const GlobalGrid& grid,
         b.pin_tau_over_dt = r.number("pin_tau_over_dt", 1e-8, Range::positive(), "-",
                                      "pinned: penalisation time tau of -(phi / tau) v, in units "
                                      "of dt (implicit; smaller holds tighter)");
-        b.law = r.string("law", "neo_hookean", {"neo_hookean", "skalak"},
-                         "membrane: strain energy (MODEL.md): neo_hookean or skalak");
+        b.law = read_choice(r, "law", MembraneLawKind::NeoHookean, membrane_law_names,
+                            "membrane: strain energy (MODEL.md): neo_hookean or skalak");
         b.elastic_modulus = r.number("elastic_modulus", 0.0, Range::non_negative(), "N/m",
                                      "membrane: modulus Es of the law (neo-Hookean: Es = 3 Gs)");
         b.area_dilation = r.number("area_dilation", 1.0, Range::positive(), "-",
@@ -96,18 +116,18 @@ std::vector<BodyConfig> read_bodies(TableReader& top, const GlobalGrid& grid,
                      "(0: no bending); kappa_R starts as the initial shape's curvature (mean "
                      "curvature in 3D, the section's in 2D)");
         b.strain_velocity =
-            r.string("strain_velocity", "surface", {"surface", "local"},
-                     "membrane: velocity that carries Gs: surface (the velocity on phi = 1/2, "
-                     "extended along the normals, so every layer of the band keeps the "
-                     "membrane's strain) or local (each layer its own velocity)");
+            read_choice(r, "strain_velocity", StrainVelocity::Surface, strain_velocity_names,
+                        "membrane: velocity that carries Gs: surface (the velocity on phi = 1/2, "
+                        "extended along the normals, so every layer of the band keeps the "
+                        "membrane's strain) or local (each layer its own velocity)");
         b.surface_velocity_reach =
             r.number("surface_velocity_reach", 5.0, Range::closed(1.0, 8.0), "cells",
                      "membrane, strain_velocity = surface: faces within reach - 1 cells of the "
                      "surface take its velocity, blended into the local one by reach; 5 "
                      "covers the band, 1.5 keeps stiff membranes (Es or the Skalak area "
                      "modulus >~ 100 mu shear_rate a) stable (docs/method.md)");
-        b.strain_extension = r.string(
-            "strain_extension", "layers", {"normal", "layers"},
+        b.strain_extension = read_choice(
+            r, "strain_extension", StrainExtension::Layers, strain_extension_names,
             "membrane: how Gs outside the band core is rebuilt after each step: normal (Gs "
             "kept in |psi| <= strain_core cells and projected, P Gs P, and copied outward "
             "along the normals from the foot point on phi = 1/2; I beyond the band) or layers "
@@ -129,53 +149,57 @@ std::vector<BodyConfig> read_bodies(TableReader& top, const GlobalGrid& grid,
                                          "(it names datasets and output fields)",
                                          r.full("").substr(0, r.full("").size() - 1), b.name));
         if (!names.insert(b.name).second) throw InputError(at + ": the name is used twice");
-        if (b.shape == "biconcave" && b.radius == 0) b.radius = 3.91e-6;
+        if (b.shape == BodyShape::Biconcave && b.radius == 0) b.radius = 3.91e-6;
         auto need = [&](bool ok, const char* key) {
             if (!ok)
-                throw InputError(fmt::format("{}: shape '{}' needs body.{} > 0", at, b.shape, key));
+                throw InputError(
+                    fmt::format("{}: shape '{}' needs body.{} > 0", at, keyword(b.shape), key));
         };
-        if (b.shape == "sphere" || b.shape == "cylinder") need(b.radius > 0, "radius");
-        if (b.shape == "ellipsoid")
+        if (b.shape == BodyShape::Sphere || b.shape == BodyShape::Cylinder)
+            need(b.radius > 0, "radius");
+        if (b.shape == BodyShape::Ellipsoid)
             need(b.semi_axes[0] > 0 && b.semi_axes[1] > 0 && b.semi_axes[2] > 0, "semi_axes");
-        if (b.shape == "box")
+        if (b.shape == BodyShape::Box)
             need(b.half_sizes[0] > 0 && b.half_sizes[1] > 0 && b.half_sizes[2] > 0, "half_sizes");
-        if (b.shape == "slab") need(b.thickness > 0, "thickness");
-        if (b.shape == "mask" && b.mask_file.empty())
+        if (b.shape == BodyShape::Slab) need(b.thickness > 0, "thickness");
+        if (b.shape == BodyShape::Mask && b.mask_file.empty())
             throw InputError(at + ": shape 'mask' needs body.mask_file");
-        if (b.kind == "solid" && !b.pinned && !(b.shear_modulus > 0))
+        if (b.kind == BodyKind::Solid && !b.pinned && !(b.shear_modulus > 0))
             throw InputError(at + ": kind = \"solid\" needs body.shear_modulus > 0 [Pa]");
-        if (b.kind == "passive" && b.extension_threshold >= 0)
+        if (b.kind == BodyKind::Passive && b.extension_threshold >= 0)
             throw InputError(at + ": extension_threshold is for solids and membranes");
-        if (b.kind == "membrane" && b.extension_threshold >= 0.5)
+        if (b.kind == BodyKind::Membrane && b.extension_threshold >= 0.5)
             throw InputError(at + ": extension_threshold of a membrane must be < 0.5 (the band "
                                   "core is t <= phi <= 1 - t)");
         if (b.extension_threshold < 0)
-            b.extension_threshold = b.kind == "membrane"                          ? 0.01
-                                    : b.kind == "solid" && b.interface == "sharp" ? 0.5
-                                                                                  : 0.0;
-        if (b.pinned && b.kind != "solid")
+            b.extension_threshold =
+                b.kind == BodyKind::Membrane                                       ? 0.01
+                : b.kind == BodyKind::Solid && b.interface == InterfaceKind::Sharp ? 0.5
+                                                                                   : 0.0;
+        if (b.pinned && b.kind != BodyKind::Solid)
             throw InputError(at + ": pinned = true is only for kind = \"solid\"");
-        if (b.kind != "solid" && (b.shear_modulus != 0 || b.solid_viscosity >= 0))
+        if (b.kind != BodyKind::Solid && (b.shear_modulus != 0 || b.solid_viscosity >= 0))
             throw InputError(at + ": shear_modulus / solid_viscosity are for kind = \"solid\"");
-        if (b.kind == "membrane" && !(b.elastic_modulus > 0))
+        if (b.kind == BodyKind::Membrane && !(b.elastic_modulus > 0))
             throw InputError(at + ": kind = \"membrane\" needs body.elastic_modulus > 0 [N/m]");
-        if (b.kind == "membrane" && b.interface != "smoothed")
+        if (b.kind == BodyKind::Membrane && b.interface != InterfaceKind::Smoothed)
             throw InputError(at + ": a membrane needs interface = \"smoothed\" (its force is "
                                   "spread by the smoothed delta function |grad phi|)");
-        if (b.kind != "membrane" && b.elastic_modulus != 0)
+        if (b.kind != BodyKind::Membrane && b.elastic_modulus != 0)
             throw InputError(at + ": elastic_modulus is for kind = \"membrane\"");
-        if (b.kind != "membrane" && b.bending_modulus != 0)
+        if (b.kind != BodyKind::Membrane && b.bending_modulus != 0)
             throw InputError(at + ": bending_modulus is for kind = \"membrane\"");
-        if (b.interface == "smoothed" && b.shape != "sphere" && b.shape != "cylinder" &&
-            b.shape != "slab" && b.shape != "ellipsoid")
+        if (b.interface == InterfaceKind::Smoothed && b.shape != BodyShape::Sphere &&
+            b.shape != BodyShape::Cylinder && b.shape != BodyShape::Slab &&
+            b.shape != BodyShape::Ellipsoid)
             throw InputError(at + ": interface = \"smoothed\" needs a sphere, cylinder or "
                                   "ellipsoid or slab (shapes with a distance-like level function)");
         const real nlen = std::hypot(b.normal[0], b.normal[1], b.normal[2]);
-        if (b.shape == "slab" && !(nlen > 0))
+        if (b.shape == BodyShape::Slab && !(nlen > 0))
             throw InputError(at + ": body.normal of a slab must not be zero");
         if (b.angle != 0 && !(std::hypot(b.axis[0], b.axis[1], b.axis[2]) > 0))
             throw InputError(at + ": body.axis must not be zero when body.angle is set");
-        if (b.shape == "slab") {
+        if (b.shape == BodyShape::Slab) {
             // The slab |n.(x - c)| <= t/2 must meet the box: n.(x - c) over the box corners.
             real lo = 0, hi = 0;
             for (int d = 0; d < grid.dim; ++d) {
@@ -202,7 +226,8 @@ std::vector<BodyConfig> read_bodies(TableReader& top, const GlobalGrid& grid,
                 throw InputError(fmt::format(
                     "{}: body.centre / size: the {} reaches {} from {:.4g} to {:.4g} m in {}, "
                     "outside the domain [{:.4g}, {:.4g}]",
-                    at, b.shape, outside ? "entirely" : "through a wall", a, z, "xyz"[d], lo, hi));
+                    at, keyword(b.shape), outside ? "entirely" : "through a wall", a, z, "xyz"[d],
+                    lo, hi));
         }
         bodies.push_back(b);
     }

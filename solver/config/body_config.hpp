@@ -4,32 +4,80 @@
 #include "core/types.hpp"
 #include "grid/grid.hpp"
 
+#include <array>
 #include <string>
+#include <string_view>
 #include <vector>
 
 namespace efsi {
 
 class TableReader;
 
+// The choices of a [[body]] section, parsed once by read_bodies (an unknown name is an error
+// naming the key); everything past the config boundary compares enums, never strings.
+// `keyword` gives the case-file spelling back (the resolved echo, the case fingerprint).
+
+/// passive (phi only) | solid (carries B; `pinned` makes it a fixed wall) | membrane (Gs).
+enum class BodyKind { Passive, Solid, Membrane };
+enum class BodyShape { Sphere, Ellipsoid, Biconcave, Cylinder, Box, Slab, Mask };
+/// sharp: cell volume fractions; smoothed: the tanh profile of the membranes' smoothed VOF.
+enum class InterfaceKind { Sharp, Smoothed };
+/// The membrane's surface strain energy Ws (MODEL.md).
+enum class MembraneLawKind { NeoHookean, Skalak };
+/// The velocity that carries a membrane's Gs.
+enum class StrainVelocity { Surface, Local };
+/// How a membrane's Gs outside the band core is rebuilt after each step.
+enum class StrainExtension { Normal, Layers };
+
+inline constexpr std::array<std::string_view, 3> body_kind_names{"passive", "solid", "membrane"};
+inline constexpr std::array<std::string_view, 7> body_shape_names{
+    "sphere", "ellipsoid", "biconcave", "cylinder", "box", "slab", "mask"};
+inline constexpr std::array<std::string_view, 2> interface_names{"sharp", "smoothed"};
+inline constexpr std::array<std::string_view, 2> membrane_law_names{"neo_hookean", "skalak"};
+inline constexpr std::array<std::string_view, 2> strain_velocity_names{"surface", "local"};
+inline constexpr std::array<std::string_view, 2> strain_extension_names{"normal", "layers"};
+
+inline std::string_view keyword(BodyKind v) {
+    return body_kind_names[int(v)];
+}
+inline std::string_view keyword(BodyShape v) {
+    return body_shape_names[int(v)];
+}
+inline std::string_view keyword(InterfaceKind v) {
+    return interface_names[int(v)];
+}
+inline std::string_view keyword(MembraneLawKind v) {
+    return membrane_law_names[int(v)];
+}
+inline std::string_view keyword(StrainVelocity v) {
+    return strain_velocity_names[int(v)];
+}
+inline std::string_view keyword(StrainExtension v) {
+    return strain_extension_names[int(v)];
+}
+
+/// The membrane law named `name` (neo_hookean, skalak); InputError naming `key` otherwise.
+MembraneLawKind parse_membrane_law(const std::string& name, const std::string& key = "body.law");
+
 struct BodyConfig {
     std::string name;
-    std::string kind = "passive"; ///< passive (phi only) | solid (B) | membrane (Gs)
-    bool bending = false;         ///< membrane with bending_modulus > 0: carries kappa_R
-    std::string shape;            ///< sphere | ellipsoid | biconcave | cylinder | box | slab | mask
-    Real3 centre{0, 0, 0};        ///< [m]
-    real radius = 0;              ///< sphere, cylinder; biconcave R0 [m]
-    Real3 semi_axes{0, 0, 0};     ///< ellipsoid [m]
-    Real3 half_sizes{0, 0, 0};    ///< box [m]
-    Real3 normal{0, 1, 0};        ///< slab normal
-    real thickness = 0;           ///< slab [m]
-    Real3 axis{0, 0, 1};          ///< orientation: rotation axis
-    real angle = 0;               ///< orientation: rotation angle [rad]
-    std::string mask_file;        ///< mask: HDF5 file (relative to the case folder)
+    BodyKind kind = BodyKind::Passive;
+    bool bending = false; ///< membrane with bending_modulus > 0: carries kappa_R
+    BodyShape shape = BodyShape::Sphere;
+    Real3 centre{0, 0, 0};             ///< [m]
+    real radius = 0;                   ///< sphere, cylinder; biconcave R0 [m]
+    Real3 semi_axes{0, 0, 0};          ///< ellipsoid [m]
+    Real3 half_sizes{0, 0, 0};         ///< box [m]
+    Real3 normal{0, 1, 0};             ///< slab normal
+    real thickness = 0;                ///< slab [m]
+    Real3 axis{0, 0, 1};               ///< orientation: rotation axis
+    real angle = 0;                    ///< orientation: rotation angle [rad]
+    std::string mask_file;             ///< mask: HDF5 file (relative to the case folder)
     std::string mask_dataset = "mask"; ///< mask: dataset [nz][ny][nx] of values in [0,1]
-    std::string interface = "sharp";   ///< sharp (cell volume fractions) | smoothed (tanh profile)
-    real smoothing_width = 1.0;        ///< smoothed: eps of the tanh profile, in cells
-    int subsamples = 8;                ///< sharp: sub-samples per direction in cut cells
-    int margin = 4;                    ///< cells kept around the body on its patch
+    InterfaceKind interface = InterfaceKind::Sharp;
+    real smoothing_width = 1.0; ///< smoothed: eps of the tanh profile, in cells
+    int subsamples = 8;         ///< sharp: sub-samples per direction in cut cells
+    int margin = 4;             ///< cells kept around the body on its patch
     // Solid (visco neo-Hookean): sigma_s' = 2 mu_s D' + G B'.
     real shear_modulus = 0;    ///< G [Pa]
     real solid_viscosity = -1; ///< mu_s [Pa s]; < 0: the fluid's viscosity
@@ -41,23 +89,23 @@ struct BodyConfig {
     bool pinned = false;
     real pin_tau_over_dt = 1e-8;
     // Membrane: surface strain energy Ws of the law, with modulus Es.
-    std::string law = "neo_hookean"; ///< neo_hookean | skalak
-    real elastic_modulus = 0;        ///< Es [N/m]
-    real area_dilation = 1;          ///< Skalak's C (alpha)
-    real bending_modulus = 0;        ///< Eb [N m] of m = Eb (kappa - kappa_R P); 0: no bending
+    MembraneLawKind law = MembraneLawKind::NeoHookean;
+    real elastic_modulus = 0; ///< Es [N/m]
+    real area_dilation = 1;   ///< Skalak's C (alpha)
+    real bending_modulus = 0; ///< Eb [N m] of m = Eb (kappa - kappa_R P); 0: no bending
     /// Velocity that carries Gs: "surface" (the surface's, extended along the normals:
     /// every layer of the band shares the membrane's strain) or "local" (each layer its own).
-    std::string strain_velocity = "surface";
+    StrainVelocity strain_velocity = StrainVelocity::Surface;
     real surface_velocity_reach = 5.0; ///< cells (strain_velocity = surface)
     /// How Gs outside the band core is rebuilt after each step: "normal" (closest-point
     /// extension of the core's Gs along the normals, P Gs P, I beyond the band) or "layers"
     /// (the mean of known neighbours marched out from t <= phi <= 1 - t, extension_threshold).
-    std::string strain_extension = "layers";
+    StrainExtension strain_extension = StrainExtension::Layers;
     real strain_core = 1.0; ///< cells: half-thickness of the core (strain_extension = normal)
 
     /// A moving membrane whose Gs is carried by the surface velocity.
     bool carried_by_surface_velocity() const {
-        return kind == "membrane" && !pinned && strain_velocity == "surface";
+        return kind == BodyKind::Membrane && !pinned && strain_velocity == StrainVelocity::Surface;
     }
 };
 

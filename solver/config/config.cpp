@@ -56,16 +56,16 @@ std::string case_fingerprint(const Config& c) {
         const BodyConfig& b = c.bodies[k];
         const std::string at = fmt::format("body[{}]", k);
         line(at + ".name", b.name);
-        line(at + ".kind", fmt::format("{} pinned {} pin_tau_over_dt {:.17g}", b.kind, b.pinned,
-                                       b.pin_tau_over_dt));
+        line(at + ".kind", fmt::format("{} pinned {} pin_tau_over_dt {:.17g}", keyword(b.kind),
+                                       b.pinned, b.pin_tau_over_dt));
         line(at + ".shape",
              fmt::format("{} centre {} radius {:.17g} semi_axes {} half_sizes {} normal {} "
                          "thickness {:.17g} axis {} angle {:.17g} mask {}:{}",
-                         b.shape, r3(b.centre), b.radius, r3(b.semi_axes), r3(b.half_sizes),
-                         r3(b.normal), b.thickness, r3(b.axis), b.angle, b.mask_file,
-                         b.mask_dataset));
+                         keyword(b.shape), r3(b.centre), b.radius, r3(b.semi_axes),
+                         r3(b.half_sizes), r3(b.normal), b.thickness, r3(b.axis), b.angle,
+                         b.mask_file, b.mask_dataset));
         line(at + ".interface",
-             fmt::format("{} smoothing_width {:.17g} subsamples {} margin {}", b.interface,
+             fmt::format("{} smoothing_width {:.17g} subsamples {} margin {}", keyword(b.interface),
                          b.smoothing_width, b.subsamples, b.margin));
         line(at + ".solid", fmt::format("shear_modulus {:.17g} solid_viscosity {:.17g} "
                                         "extension_threshold {:.17g}",
@@ -73,8 +73,8 @@ std::string case_fingerprint(const Config& c) {
         line(at + ".membrane",
              fmt::format("{} elastic_modulus {:.17g} area_dilation {:.17g} bending_modulus "
                          "{:.17g} strain_velocity {} surface_velocity_reach {:.17g}",
-                         b.law, b.elastic_modulus, b.area_dilation, b.bending_modulus,
-                         b.strain_velocity, b.surface_velocity_reach));
+                         keyword(b.law), b.elastic_modulus, b.area_dilation, b.bending_modulus,
+                         keyword(b.strain_velocity), b.surface_velocity_reach));
     }
     return out;
 }
@@ -342,7 +342,7 @@ Config read_config(toml::table& root, const std::filesystem::path& case_dir) {
     if (!KeyCatalogue::instance().documenting)
         for (std::size_t k = 0; k < c.bodies.size(); ++k) {
             const BodyConfig& b = c.bodies[k];
-            if (b.shape != "mask") continue;
+            if (b.shape != BodyShape::Mask) continue;
             namespace fs = std::filesystem;
             const fs::path file = fs::path(b.mask_file).is_absolute() ? fs::path(b.mask_file)
                                                                       : case_dir / b.mask_file;
@@ -411,7 +411,7 @@ LinearSolverChoice choose_linear_solvers(const Config& c) {
         if (b.pinned)
             obstacle =
                 fmt::format("body '{}' is pinned (its penalisation varies in space)", b.name);
-        else if (b.kind == "solid" && b.solid_viscosity >= 0 &&
+        else if (b.kind == BodyKind::Solid && b.solid_viscosity >= 0 &&
                  b.solid_viscosity != c.fluid.viscosity)
             obstacle = fmt::format("body '{}' has solid_viscosity {} != fluid.viscosity {} "
                                    "(the viscosity varies in space)",

@@ -72,7 +72,7 @@ real mean_curvature_at(const std::array<Field, 3>& n, const GlobalGrid& g, int d
     return -0.5 * div;
 }
 
-real level_set_curvature(const std::array<std::array<real, 3>, 3>& H, const Real3& grad, int dim) {
+real level_set_curvature(const Matrix3& H, const Real3& grad, int dim) {
     real g2 = 0;
     for (int a = 0; a < dim; ++a)
         g2 += grad[a] * grad[a];

@@ -52,6 +52,6 @@ real mean_curvature_at(const std::array<Field, 3>& n, const GlobalGrid& g, int d
 /// over the directions a surface can bend: two in 3D; one in 2D, where the z-invariant
 /// cylinder surface has straight generators. 1/R on a sphere or circle of radius R. This
 /// is the membrane's reference curvature kappa_R (docs/method.md, "Membrane bending").
-real level_set_curvature(const std::array<std::array<real, 3>, 3>& H, const Real3& grad, int dim);
+real level_set_curvature(const Matrix3& H, const Real3& grad, int dim);
 
 } // namespace efsi

@@ -21,8 +21,8 @@
 
 namespace efsi {
 
-/// Rotation matrix, row-major: R[a][b]. Columns are the body axes in lab coordinates.
-using Matrix3 = std::array<Real3, 3>;
+// Rotations are Matrix3 (core/types.hpp), row-major R[a][b]: the columns are the body axes
+// in lab coordinates.
 
 /// Identity orientation.
 Matrix3 identity_rotation();

@@ -41,7 +41,7 @@ Real3 youngs_gradient(const Field& phi, const Int3& p, int dim) {
         int code = q;
         for (int e = 0; e < dim; ++e, code /= 3)
             o[e] = code % 3 - 1;
-        const real v = phi(p[0] + o[0], p[1] + o[1], p[2] + o[2]);
+        const real v = phi(p + o);
         for (int d = 0; d < dim; ++d) {
             if (o[d] == 0) continue;
             real w = 0.5 * o[d]; // central difference (phi_{+1} - phi_{-1}) / 2

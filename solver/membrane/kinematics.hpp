@@ -19,19 +19,21 @@
 
 namespace efsi {
 
-using Tensor33 = std::array<std::array<real, 3>, 3>;
+/// The name membrane_force.cpp still uses for Matrix3 (core/types.hpp); to be dropped
+/// once that file is renamed too.
+using Tensor33 = Matrix3;
 
 struct MembraneKinematics {
-    Tensor33 P{};  ///< I - n n
-    Tensor33 Bs{}; ///< P Gs P
-    real Is = 0;   ///< tr(Bs) - 2
-    real IIs = 0;  ///< det of Bs on the tangent plane, minus 1
-    real J = 1;    ///< area ratio sqrt(IIs + 1)
+    Matrix3 P{};  ///< I - n n
+    Matrix3 Bs{}; ///< P Gs P
+    real Is = 0;  ///< tr(Bs) - 2
+    real IIs = 0; ///< det of Bs on the tangent plane, minus 1
+    real J = 1;   ///< area ratio sqrt(IIs + 1)
 };
 
 /// Second invariant (tr(A)^2 - tr(A A)) / 2 of a 3 x 3 tensor: lambda1^2 lambda2^2 = J^2 for
 /// a surface tensor (Bs, or Gs itself, whose third eigenvalue is 0).
-inline real second_invariant(const Tensor33& A) {
+inline real second_invariant(const Matrix3& A) {
     real tr = 0, tr2 = 0;
     for (int a = 0; a < 3; ++a) {
         tr += A[a][a];
@@ -42,12 +44,12 @@ inline real second_invariant(const Tensor33& A) {
 }
 
 /// Kinematics from a unit normal n and the (symmetric) surface tensor Gs.
-inline MembraneKinematics membrane_kinematics(const Real3& n, const Tensor33& Gs) {
+inline MembraneKinematics membrane_kinematics(const Real3& n, const Matrix3& Gs) {
     MembraneKinematics k;
     for (int a = 0; a < 3; ++a)
         for (int b = 0; b < 3; ++b)
             k.P[a][b] = (a == b ? 1.0 : 0.0) - n[a] * n[b];
-    Tensor33 GP{}; // Gs P
+    Matrix3 GP{}; // Gs P
     for (int a = 0; a < 3; ++a)
         for (int b = 0; b < 3; ++b)
             for (int c = 0; c < 3; ++c)

@@ -108,9 +108,9 @@ real bending_time_step_limit(const GlobalGrid& grid, real density, real viscosit
 
 /// Membrane stress S = |grad phi| tau_s at cell p (zero outside the band).
 /// Pointwise kernel: phi needs valid values at p and its 3^dim neighbours.
-Tensor33 membrane_stress_at(const Field& phi, const SymmetricTensorField& Gs,
-                            const MembraneLaw& law, const GlobalGrid& g,
-                            const MembraneForceSettings& s, const Int3& p, bool& in_band);
+Matrix3 membrane_stress_at(const Field& phi, const SymmetricTensorField& Gs, const MembraneLaw& law,
+                           const GlobalGrid& g, const MembraneForceSettings& s, const Int3& p,
+                           bool& in_band);
 
 class MembraneForce {
   public:

@@ -6,10 +6,18 @@
 
 namespace efsi {
 
+std::unique_ptr<MembraneLaw> make_membrane_law(MembraneLawKind law, real Es, real alpha) {
+    switch (law) {
+    case MembraneLawKind::NeoHookean:
+        return std::make_unique<NeoHookeanLaw>(Es);
+    case MembraneLawKind::Skalak:
+        return std::make_unique<SkalakLaw>(Es, alpha);
+    }
+    throw InputError("membrane law: unknown kind");
+}
+
 std::unique_ptr<MembraneLaw> make_membrane_law(const std::string& name, real Es, real alpha) {
-    if (name == "neo_hookean") return std::make_unique<NeoHookeanLaw>(Es);
-    if (name == "skalak") return std::make_unique<SkalakLaw>(Es, alpha);
-    throw InputError("membrane law '" + name + "' is unknown (neo_hookean, skalak)");
+    return make_membrane_law(parse_membrane_law(name, "membrane law"), Es, alpha);
 }
 
 } // namespace efsi

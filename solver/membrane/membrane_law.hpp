@@ -5,6 +5,7 @@
 // (a class deriving from MembraneLaw, registered in make_membrane_law).
 #pragma once
 
+#include "config/body_config.hpp"
 #include "membrane/kinematics.hpp"
 
 #include <memory>
@@ -30,10 +31,10 @@ class MembraneLaw {
     virtual real stiffest_modulus() const = 0;
 
     /// In-plane Cauchy tension tau_s (force per unit current length), a tangential tensor.
-    Tensor33 tension(const MembraneKinematics& k) const {
+    Matrix3 tension(const MembraneKinematics& k) const {
         const EnergyDerivatives e = energy_derivatives(k.Is, k.IIs);
         const real a = 2 * e.dW_dIs / k.J, b = 2 * k.J * e.dW_dIIs;
-        Tensor33 tau{};
+        Matrix3 tau{};
         for (int i = 0; i < 3; ++i)
             for (int j = 0; j < 3; ++j)
                 tau[i][j] = a * k.Bs[i][j] + b * k.P[i][j];
@@ -41,8 +42,10 @@ class MembraneLaw {
     }
 };
 
-/// A law by name ("neo_hookean" or "skalak"); `alpha` is Skalak's area-dilation constant C
-/// (ignored by the neo-Hookean law). Throws InputError on an unknown name.
+/// The membrane law `law`; `alpha` is Skalak's area-dilation constant C
+/// (ignored by the neo-Hookean law).
+std::unique_ptr<MembraneLaw> make_membrane_law(MembraneLawKind law, real Es, real alpha = 1);
+/// The same by the case-file name (neo_hookean, skalak); InputError for any other.
 std::unique_ptr<MembraneLaw> make_membrane_law(const std::string& name, real Es, real alpha = 1);
 
 } // namespace efsi

@@ -114,51 +114,15 @@ Simulation::Simulation(const Config& config, const RunOptions& options, MPI_Comm
     } else if (bodies_) {
         bodies_->initialise();
     }
-    // Solids: their laws, the force field (only if some body is stressed) and the elastic
-    // time-step limit; whether the viscosity varies in space.
-    for (const BodyConfig& b : cfg_.bodies) {
-        SolidLaw law;
-        if (b.kind == "solid") {
-            // A pinned solid keeps B = I: no elastic stress, no elastic time-step limit.
-            law.shear_modulus = b.pinned ? 0.0 : b.shear_modulus;
-            law.viscosity = b.solid_viscosity >= 0 ? b.solid_viscosity : cfg_.fluid.viscosity;
-            if (law.viscosity != cfg_.fluid.viscosity) state_->viscosity_varies = true;
-        } else {
-            law.viscosity = cfg_.fluid.viscosity;
-        }
-        laws_.push_back(law);
-    }
-    elastic_dt_limit_ = elastic_time_step_limit(cfg_.grid, cfg_.fluid.density, laws_);
-    // Membranes: their laws and force kernels, and their explicit time-step limit.
-    real es_max = 0, eb_max = 0;
-    for (const BodyConfig& b : cfg_.bodies) {
-        if (b.kind == "membrane") {
-            membrane_laws_.push_back(make_membrane_law(b.law, b.elastic_modulus, b.area_dilation));
-            MembraneForceSettings ms;
-            ms.smoothing_width = b.smoothing_width;
-            ms.bending_modulus = b.bending_modulus;
-            membrane_forces_.push_back(std::make_unique<MembraneForce>(cfg_.grid, *halos_, ms));
-            es_max = std::max(es_max, membrane_laws_.back()->stiffest_modulus());
-            eb_max = std::max(eb_max, b.bending_modulus);
-        } else {
-            membrane_laws_.push_back(nullptr);
-            membrane_forces_.push_back(nullptr);
-        }
-    }
-    const real membrane_limit =
-        membrane_time_step_limit(cfg_.grid, cfg_.fluid.density, cfg_.fluid.viscosity, es_max);
-    if (membrane_limit > 0 && (elastic_dt_limit_ == 0 || membrane_limit < elastic_dt_limit_))
-        elastic_dt_limit_ = membrane_limit;
-    const real bending_limit =
-        bending_time_step_limit(cfg_.grid, cfg_.fluid.density, cfg_.fluid.viscosity, eb_max);
-    if (bending_limit > 0 && (elastic_dt_limit_ == 0 || bending_limit < elastic_dt_limit_)) {
-        elastic_dt_limit_ = bending_limit;
-        elastic_dt_name_ = "bending";
-    }
-    if (bodies_)
+    // The bodies: their named time-step limits, whether they make the viscosity vary in
+    // space, the velocity that carries them and the force field (only if some body adds one).
+    if (bodies_) {
+        body_limits_ = bodies_->time_step_limits();
+        if (bodies_->viscosity_varies()) state_->viscosity_varies = true;
         u_mid_ = std::make_unique<VelocityField>("body_velocity", dec_->block(), dec_->dim());
-    if (elastic_dt_limit_ > 0)
-        force_ = std::make_unique<VelocityField>("body_force", dec_->block(), dec_->dim());
+        if (bodies_->adds_force())
+            force_ = std::make_unique<VelocityField>("body_force", dec_->block(), dec_->dim());
+    }
     halos_->fill(state_->p);
     halos_->fill(state_->mu);
     halos_->fill(state_->u);
@@ -190,52 +154,41 @@ Simulation::~Simulation() = default;
 
 void Simulation::apply_body_stresses() {
     if (!bodies_) return;
-    std::vector<const Body*> list;
-    for (Body* b : body_list())
-        list.push_back(b);
-    if (state_->viscosity_varies)
-        update_mixture_viscosity(state_->mu, cfg_.fluid.viscosity, list, laws_);
-    if (!force_) return;
-    for (int c = 0; c < force_->dim; ++c)
-        (*force_)[c].fill(0);
-    for (std::size_t k = 0; k < list.size(); ++k) {
-        if (membrane_forces_[k]) {
-            membrane_forces_[k]->add(*body_list()[k], *membrane_laws_[k], *force_);
-            continue;
-        }
-        if (laws_[k].shear_modulus == 0) continue;
-        Body& b = *body_list()[k];
-        for (Field& comp : b.tensor().comp)
-            halos_->fill(comp, b.patch());
-        add_elastic_force(*force_, b, laws_[k], cfg_.grid, dec_->block());
+    if (state_->viscosity_varies) bodies_->update_viscosity(state_->mu);
+    if (force_) bodies_->add_forces(*force_);
+}
+
+void Simulation::advance_bodies(real dt) {
+    if (!bodies_) return;
+    FlowState& s = *state_;
+    // The bodies move with the time-centred velocity (v^n + v^{n+1})/2: second order in
+    // time, and still discretely solenoidal (exact VOF conservation). u_mid_ holds v^n.
+    for (int c = 0; c < s.u.dim; ++c) {
+        auto& m = (*u_mid_)[c].data();
+        const auto& v = s.u[c].data();
+        for (std::size_t q = 0; q < m.size(); ++q)
+            m[q] = 0.5 * (m[q] + v[q]);
+    }
+    timers_.time("halo", [&] { halos_->fill(*u_mid_); });
+    try {
+        bodies_->advance(*u_mid_, dt, s.step, timers_);
+    } catch (const RunError& e) {
+        throw RunError(unstable_message(e.what()));
     }
 }
 
 void Simulation::build_pinning() {
-    // Pinned bodies never move, so K = dt chi / tau = sum_k phi_k / (tau_k / dt) is fixed:
+    // Fixed walls never move, so K = dt chi / tau = sum_k phi_k / (tau_k / dt) is fixed:
     // built once, from the cell fractions averaged onto the faces.
-    std::vector<Body*> list = body_list();
     Field chi("pinned_fraction", Location::Cell, dec_->block(), dec_->dim());
     chi.fill(0);
-    bool any = false;
-    for (std::size_t k = 0; k < list.size(); ++k) {
-        const BodyConfig& bc = cfg_.bodies[k];
-        if (!bc.pinned) continue;
-        any = true;
-        const Field& phi = list[k]->phi();
-        if (list[k]->patch().empty()) continue;
-        for_each_in(phi.owned(), [&](int i, int j, int l) {
-            chi(i, j, l) += phi(i, j, l) / bc.pin_tau_over_dt;
-        });
-    }
-    if (!any) return; // no pinned solid: no field, no term in the flow step
+    if (!bodies_ || !bodies_->add_pinning(chi)) return; // no term in the flow step
     halos_->fill(chi);
     pinning_ = std::make_unique<VelocityField>("pinning", dec_->block(), dec_->dim());
     for (int c = 0; c < pinning_->dim; ++c)
         for_each_cell(dec_->block().cells, [&](int i, int j, int l) {
-            Int3 lo{i, j, l};
-            --lo[c];
-            (*pinning_)[c](i, j, l) = 0.5 * (chi(lo) + chi(i, j, l));
+            const Int3 p{i, j, l};
+            (*pinning_)[c](p) = 0.5 * (chi(p - unit(c)) + chi(p));
         });
     stepper_->set_pinning(pinning_.get());
 }
@@ -276,12 +229,16 @@ void Simulation::check_stability(const TimeStepChoice& choice) {
                               "tensor_trace_max) exceeds stability.max_tensor_trace = {:.3g}",
                               b.name, b.tensor_trace_max, cfg_.stability.max_tensor_trace);
     if (why.empty()) return;
-    const std::string where = locate_worst_velocity(*dec_, s);
-    throw RunError(fmt::format("UNSTABLE at step {}, t = {:.6e} s: {}; {}. The last good "
-                               "checkpoint (if any) is kept in {}{}",
-                               s.step, s.time, why, where,
-                               (opt_.output_dir / "checkpoint.h5").string(),
-                               membrane_instability_hint(cfg_)));
+    throw RunError(unstable_message(why));
+}
+
+std::string Simulation::unstable_message(const std::string& why) const {
+    const FlowState& s = *state_;
+    return fmt::format("UNSTABLE at step {}, t = {:.6e} s: {}; {}. The last good checkpoint "
+                       "(if any) is kept in {}{}",
+                       s.step, s.time, why, locate_worst_velocity(*dec_, s),
+                       (opt_.output_dir / "checkpoint.h5").string(),
+                       membrane_instability_hint(cfg_));
 }
 
 void Simulation::write_outputs_if_due(bool final_step) {
@@ -389,74 +346,24 @@ void Simulation::land_on_snapshot(TimeStepChoice& choice) const {
 
 int Simulation::run() {
     FlowState& s = *state_;
-    const auto t0 = std::chrono::steady_clock::now();
-    log(fmt::format("efsi: case '{}' on {} rank(s) ({}x{}x{}), grid {}x{}x{} ({}D), dx = {:.4g} m",
-                    cfg_.name, dec_->size(), dec_->ranks_per_dim()[0], dec_->ranks_per_dim()[1],
-                    dec_->ranks_per_dim()[2], cfg_.grid.cells[0], cfg_.grid.cells[1],
-                    cfg_.grid.cells[2], cfg_.grid.dim, cfg_.grid.dx(0)));
-    log(stepper_->solver_summary());
-    load_before_ = machine_load();
+    log_start();
     std::string status = "completed";
     std::string message;
     try {
         if (s.step == 0) write_outputs_if_due(false);
-        while (s.time < cfg_.time.end_time * (1 - 1e-12) && s.step < cfg_.time.max_steps) {
-            TimeStepChoice choice =
-                choose_time_step(cfg_, *dec_, s, elastic_dt_limit_, elastic_dt_name_);
+        while (!finished()) {
+            TimeStepChoice choice = choose_time_step(cfg_, *dec_, s, body_limits_);
             check_stability(choice);
             land_on_snapshot(choice);
             timers_.time("body_stress", [&] { apply_body_stresses(); });
             if (bodies_) *u_mid_ = s.u;
             const StepReport r = stepper_->step(s, choice.dt, timers_, force_.get());
-            if (bodies_) {
-                // The bodies move with the time-centred velocity (v^n + v^{n+1})/2: second
-                // order in time, and still discretely solenoidal (exact VOF conservation).
-                for (int c = 0; c < s.u.dim; ++c) {
-                    auto& m = (*u_mid_)[c].data();
-                    const auto& v = s.u[c].data();
-                    for (std::size_t q = 0; q < m.size(); ++q)
-                        m[q] = 0.5 * (m[q] + v[q]);
-                }
-                timers_.time("halo", [&] { halos_->fill(*u_mid_); });
-                try {
-                    bodies_->advance(*u_mid_, choice.dt, s.step, timers_);
-                } catch (const RunError& e) {
-                    throw RunError(fmt::format(
-                        "UNSTABLE at step {}, t = {:.6e} s: {}; {}. The last good checkpoint "
-                        "(if any) is kept in {}{}",
-                        s.step, s.time, e.what(), locate_worst_velocity(*dec_, s),
-                        (opt_.output_dir / "checkpoint.h5").string(),
-                        membrane_instability_hint(cfg_)));
-                }
-            }
-            ++steps_this_run_;
-            last_.dt = choice.dt;
-            last_.cfl = choice.cfl;
-            last_.pressure_iterations = r.pressure.iterations;
-            last_.pressure_residual = r.pressure.relative_residual;
-            last_.viscous_iterations = r.viscous.iterations;
-            if (!r.pressure.converged)
-                log(fmt::format("warning: step {}: pressure solve stopped at {} iterations, "
-                                "relative residual {:.2e}",
-                                s.step, r.pressure.iterations, r.pressure.relative_residual));
-            const bool final_step =
-                !(s.time < cfg_.time.end_time * (1 - 1e-12)) || s.step >= cfg_.time.max_steps;
-            write_outputs_if_due(final_step);
-            if (s.step % cfg_.output.progress_every == 0 || final_step) {
-                const double wall =
-                    std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
-                const double frac = (s.time) / cfg_.time.end_time;
-                const double eta = steps_this_run_ > 0 && frac > 0
-                                       ? wall * (1 - frac) / std::max(1e-12, frac - 0.0)
-                                       : 0.0;
-                log(fmt::format("step {:7d}  t = {:.4e} s ({:5.1f}%)  dt = {:.3e} [{}]  "
-                                "div = {:.1e}  KE = {:.4e}  p-its {:3d}  ETA {:.0f} s",
-                                s.step, s.time, 100 * frac, choice.dt, choice.limited_by,
-                                last_.max_divergence, last_.kinetic_energy, r.pressure.iterations,
-                                eta));
-            }
+            advance_bodies(choice.dt);
+            record_step(choice, r);
+            write_outputs_if_due(finished());
+            log_progress(choice, r);
         }
-        check_stability(choose_time_step(cfg_, *dec_, s, elastic_dt_limit_, elastic_dt_name_));
+        check_stability(choose_time_step(cfg_, *dec_, s, body_limits_));
         if (s.time < cfg_.time.end_time * (1 - 1e-12)) {
             status = "max_steps";
             message = fmt::format("stopped at time.max_steps = {} at t = {:.6g} s of "
@@ -470,8 +377,63 @@ int Simulation::run() {
         status = "io_error";
         message = e.what();
     }
-    const double wall =
-        std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
+    return finish(status, message);
+}
+
+bool Simulation::finished() const {
+    return !(state_->time < cfg_.time.end_time * (1 - 1e-12)) ||
+           state_->step >= cfg_.time.max_steps;
+}
+
+void Simulation::log_start() {
+    start_ = std::chrono::steady_clock::now();
+    log(fmt::format("efsi: case '{}' on {} rank(s) ({}x{}x{}), grid {}x{}x{} ({}D), dx = {:.4g} m",
+                    cfg_.name, dec_->size(), dec_->ranks_per_dim()[0], dec_->ranks_per_dim()[1],
+                    dec_->ranks_per_dim()[2], cfg_.grid.cells[0], cfg_.grid.cells[1],
+                    cfg_.grid.cells[2], cfg_.grid.dim, cfg_.grid.dx(0)));
+    log(stepper_->solver_summary());
+    if (!body_limits_.empty()) {
+        std::string limits;
+        for (const TimeStepLimit& l : body_limits_)
+            limits += fmt::format("{}{} {:.3e} s", limits.empty() ? "" : ", ", l.name, l.dt);
+        log("body time-step limits: " + limits);
+    }
+    load_before_ = machine_load();
+}
+
+double Simulation::wall_seconds() const {
+    return std::chrono::duration<double>(std::chrono::steady_clock::now() - start_).count();
+}
+
+void Simulation::record_step(const TimeStepChoice& choice, const StepReport& r) {
+    ++steps_this_run_;
+    last_.dt = choice.dt;
+    last_.cfl = choice.cfl;
+    last_.pressure_iterations = r.pressure.iterations;
+    last_.pressure_residual = r.pressure.relative_residual;
+    last_.viscous_iterations = r.viscous.iterations;
+    last_limited_by_ = choice.limited_by;
+    if (!r.pressure.converged)
+        log(fmt::format("warning: step {}: pressure solve stopped at {} iterations, relative "
+                        "residual {:.2e}",
+                        state_->step, r.pressure.iterations, r.pressure.relative_residual));
+}
+
+void Simulation::log_progress(const TimeStepChoice& choice, const StepReport& r) const {
+    const FlowState& s = *state_;
+    if (!(s.step % cfg_.output.progress_every == 0 || finished())) return;
+    const double wall = wall_seconds();
+    const double frac = (s.time) / cfg_.time.end_time;
+    const double eta =
+        steps_this_run_ > 0 && frac > 0 ? wall * (1 - frac) / std::max(1e-12, frac - 0.0) : 0.0;
+    log(fmt::format("step {:7d}  t = {:.4e} s ({:5.1f}%)  dt = {:.3e} [{}]  div = {:.1e}  "
+                    "KE = {:.4e}  p-its {:3d}  ETA {:.0f} s",
+                    s.step, s.time, 100 * frac, choice.dt, choice.limited_by, last_.max_divergence,
+                    last_.kinetic_energy, r.pressure.iterations, eta));
+}
+
+int Simulation::finish(const std::string& status, const std::string& message) {
+    const double wall = wall_seconds();
     try {
         write_summary(wall, status, message);
     } catch (const std::exception& e) {
@@ -521,6 +483,12 @@ void Simulation::write_summary(double wall_seconds, const std::string& status,
         stages[k] = v;
     j["stages"] = stages;
     j["linear_solvers"] = stepper_->solver_summary();
+    // The bodies' named explicit limits and the limit that set the last step's dt.
+    nlohmann::json limits = nlohmann::json::object();
+    for (const TimeStepLimit& l : body_limits_)
+        limits[l.name] = l.dt;
+    j["time_step_limits"] = limits;
+    j["limited_by"] = last_limited_by_;
     const Diagnostics& d = last_;
     j["final"] = {{"step", d.step},
                   {"time", d.time},

@@ -6,15 +6,14 @@
 #include "boundary/boundary.hpp"
 #include "config/config.hpp"
 #include "io/checkpoint.hpp"
-#include "membrane/membrane_force.hpp"
 #include "parallel/decomposition.hpp"
 #include "simulation/diagnostics.hpp"
-#include "solid/solid_mechanics.hpp"
 #include "time/flow_state.hpp"
 #include "time/smac.hpp"
 #include "time/stage_timers.hpp"
 #include "time/time_step_control.hpp"
 
+#include <chrono>
 #include <filesystem>
 #include <memory>
 
@@ -40,17 +39,30 @@ class Simulation {
     const Decomposition& decomposition() const { return *dec_; }
 
   private:
-    void write_outputs_if_due(bool final_step);
+    // The stages of run(), in the order they are called.
+    void log_start();
+    bool finished() const; ///< end time or time.max_steps reached
     /// Shorten an adaptive step to land on the next field snapshot time.
     void land_on_snapshot(TimeStepChoice& choice) const;
     void check_stability(const TimeStepChoice& choice);
+    /// The bodies' stresses at the current state: mixture viscosity and force.
+    void apply_body_stresses();
+    /// Carry the bodies with (v^n + v^{n+1}) / 2 (u_mid_ holds v^n on entry).
+    void advance_bodies(real dt);
+    void record_step(const TimeStepChoice& choice, const StepReport& r);
+    void write_outputs_if_due(bool final_step);
+    void log_progress(const TimeStepChoice& choice, const StepReport& r) const;
+    /// Write the summary and print the outcome; returns the exit code.
+    int finish(const std::string& status, const std::string& message);
+
+    /// "UNSTABLE at step ..., t = ...: why; where. The last good checkpoint ..."
+    std::string unstable_message(const std::string& why) const;
     void write_summary(double wall_seconds, const std::string& status,
                        const std::string& message) const;
     void log(const std::string& line) const;
-    /// The bodies' stresses at the current state: mixture viscosity and elastic force.
-    void apply_body_stresses();
+    double wall_seconds() const; ///< since log_start()
     std::vector<Body*> body_list() const;
-    /// K = sum over pinned solids of phi_k / pin_tau_over_dt_k on the faces (or null).
+    /// K = sum over fixed walls of phi_k / pin_tau_over_dt_k on the faces (or null).
     void build_pinning();
 
     Config cfg_;
@@ -62,20 +74,17 @@ class Simulation {
     std::unique_ptr<class FieldOutput> fields_;
     std::unique_ptr<BodySystem> bodies_; ///< null when the case has no body
     std::vector<BodyDiagnostics> last_bodies_;
-    std::vector<SolidLaw> laws_;             ///< per body; zero modulus for non-solids
-    std::unique_ptr<VelocityField> force_;   ///< body force density; only with stressed bodies
+    std::vector<TimeStepLimit> body_limits_; ///< the bodies' named explicit limits
+    std::unique_ptr<VelocityField> force_;   ///< body force density; only if a body adds one
     std::unique_ptr<VelocityField> u_mid_;   ///< (v^n + v^{n+1}) / 2 that carries the bodies
-    std::unique_ptr<VelocityField> pinning_; ///< K = dt chi / tau; only with pinned solids
-    real elastic_dt_limit_ = 0;
-    std::string elastic_dt_name_ = "elastic"; ///< which body limit it is (elastic, bending)
-    /// Per body (null for non-membranes): the law and the force kernel of a membrane.
-    std::vector<std::unique_ptr<MembraneLaw>> membrane_laws_;
-    std::vector<std::unique_ptr<MembraneForce>> membrane_forces_;
+    std::unique_ptr<VelocityField> pinning_; ///< K = dt chi / tau; only with fixed walls
     StageTimers timers_;
     RunClock clock_;
     Diagnostics last_;
+    std::string last_limited_by_; ///< the limit that set the last step's dt
     long steps_this_run_ = 0;
     std::vector<double> load_before_; ///< /proc/loadavg at the start of run()
+    std::chrono::steady_clock::time_point start_;
 };
 
 } // namespace efsi

@@ -34,17 +34,6 @@ void update_mixture_viscosity(Field& mu, real fluid_viscosity,
 void add_elastic_force(VelocityField& force, const Body& body, const SolidLaw& law,
                        const GlobalGrid& grid, const LocalBlock& block);
 
-/// Explicit membrane force limit (0 without membranes): the larger of the viscous and the
-/// inertial capillary-type limits, 4 mu h / K and sqrt(rho h^3 / (2 pi K)), K the stiffest
-/// small-strain modulus of the laws in the scene (MembraneLaw::stiffest_modulus; Es for the
-/// neo-Hookean law). Galusinski & Vigneaux 2008 show the stable step follows the viscous one
-/// at low Re and the inertial one, Brackbill et al. 1992, at high Re. The factor 4 is
-/// measured (docs/method.md, "Membranes in the time step"): at Re = 0.01 the neo-Hookean
-/// capsule runs stably up to 8 mu h / Es (2D d/16, Ca 0.002: 12 mu h / Es blows up; 3D d/8
-/// Ca 0.0125 and d/16 Ca 0.0125 stable at 8 mu h / Es), so with cfl = 0.5 the automatic step
-/// 2 mu h / K keeps a margin of 4 while D(t) changes by < 5e-4.
-real membrane_time_step_limit(const GlobalGrid& grid, real density, real viscosity, real es_max);
-
 /// Step limit for the elastic shear waves: min(dx) / (2 sqrt(G_max / rho)) (0 if none);
 /// the factor 1/2 is the measured margin of the explicit (AB2) elastic force.
 real elastic_time_step_limit(const GlobalGrid& grid, real density,

@@ -47,7 +47,7 @@ void velocity_bounds(const Decomposition& dec, const FlowState& s, real& rate, r
 }
 
 TimeStepChoice choose_time_step(const Config& cfg, const Decomposition& dec, const FlowState& s,
-                                real extra_limit, const std::string& extra_name) {
+                                const std::vector<TimeStepLimit>& extra) {
     const GlobalGrid& g = dec.grid();
     TimeStepChoice out;
     real rate = 0;
@@ -92,7 +92,8 @@ TimeStepChoice choose_time_step(const Config& cfg, const Decomposition& dec, con
         hmin = std::min(hmin, g.dx(d));
     }
     if (fmag > 0) consider(std::sqrt(hmin * cfg.fluid.density / std::sqrt(fmag)), "body force");
-    if (extra_limit > 0) consider(extra_limit, extra_name.c_str());
+    for (const TimeStepLimit& l : extra)
+        if (l.dt > 0) consider(l.dt, l.name.c_str());
     // The split VOF advection of bodies needs every face Courant number below 1/2: cap it
     // at 0.45 whatever time.cfl is (the limit is divided by cfl, which multiplies below).
     if (!cfg.bodies.empty() && advective_rate > 0) {

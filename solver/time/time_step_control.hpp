@@ -5,7 +5,7 @@
 //   body force  dt_f = sqrt(dx_min rho / |f|)
 //   dt = cfl * min(dt_a, dt_v, dt_f), capped by time.dt_max and by the end time; with
 //   bodies, also by a face Courant number of 0.45 (the split VOF advection needs < 1/2).
-// Later physics (solids, membranes) add their own limits through `extra_limit`.
+// The bodies add their own named limits (elastic, membrane, bending: bodies/body_physics.hpp).
 #pragma once
 
 #include "config/config.hpp"
@@ -13,8 +13,15 @@
 #include "time/flow_state.hpp"
 
 #include <string>
+#include <vector>
 
 namespace efsi {
+
+/// An explicit time-step limit of some physics, by name ("elastic", "membrane", ...).
+struct TimeStepLimit {
+    std::string name;
+    real dt = 0; ///< [s]
+};
 
 struct TimeStepChoice {
     real dt = 0;
@@ -26,7 +33,8 @@ struct TimeStepChoice {
 /// Max over the owned faces of sum_d |u_d|/dx_d (cell-wise) and of |u_d|; NaN-aware.
 void velocity_bounds(const Decomposition& dec, const FlowState& s, real& rate, real& speed);
 
+/// dt from the flow's limits and `extra` (the bodies'); limited_by names the smallest.
 TimeStepChoice choose_time_step(const Config& cfg, const Decomposition& dec, const FlowState& s,
-                                real extra_limit = 0, const std::string& extra_name = "");
+                                const std::vector<TimeStepLimit>& extra = {});
 
 } // namespace efsi

@@ -10,8 +10,8 @@ using namespace efsi;
 
 namespace {
 
-Tensor33 projection(const Real3& n) {
-    Tensor33 P{};
+Matrix3 projection(const Real3& n) {
+    Matrix3 P{};
     for (int a = 0; a < 3; ++a)
         for (int b = 0; b < 3; ++b)
             P[a][b] = (a == b ? 1.0 : 0.0) - n[a] * n[b];
@@ -22,8 +22,8 @@ Real3 unit_vector(real theta, real phi) {
     return {std::sin(theta) * std::cos(phi), std::sin(theta) * std::sin(phi), std::cos(theta)};
 }
 
-Tensor33 flat_tension(const MembraneLaw& law, real l1, real l2) {
-    Tensor33 Gs{};
+Matrix3 flat_tension(const MembraneLaw& law, real l1, real l2) {
+    Matrix3 Gs{};
     Gs[0][0] = l1 * l1;
     Gs[1][1] = l2 * l2;
     return law.tension(membrane_kinematics({0, 0, 1}, Gs));
@@ -36,7 +36,7 @@ TEST(MembraneLaws, NeoHookeanUniaxialClosedForm) {
     const auto law = make_membrane_law("neo_hookean", 3 * Gs);
     for (real l1 : {1.0, 1.1, 1.5, 2.0, 3.0}) {
         const real l2 = std::pow(l1, -0.5);
-        const Tensor33 t = flat_tension(*law, l1, l2);
+        const Matrix3 t = flat_tension(*law, l1, l2);
         const real t1 = Gs * (l1 * l1 * l1 - 1) / std::pow(l1, 1.5);
         EXPECT_NEAR(t[0][0], t1, 1e-14 * std::max(1.0, t1)) << "lambda1 = " << l1;
         EXPECT_NEAR(t[1][1], 0.0, 1e-14 * std::max(1.0, t1));
@@ -52,7 +52,7 @@ TEST(MembraneLaws, SkalakUniaxialClosedForm) {
             const real l2 = std::sqrt((1 + C * l1 * l1) / (1 + C * l1 * l1 * l1 * l1));
             const real J = l1 * l2;
             const real t1 = Gs / J * (l1 * l1 * (l1 * l1 - 1) + C * J * J * (J * J - 1));
-            const Tensor33 t = flat_tension(*law, l1, l2);
+            const Matrix3 t = flat_tension(*law, l1, l2);
             EXPECT_NEAR(t[0][0], t1, 1e-13 * std::max(1.0, t1)) << "C " << C << " l1 " << l1;
             EXPECT_NEAR(t[1][1], 0.0, 1e-13 * std::max(1.0, t1));
         }
@@ -68,7 +68,7 @@ TEST(MembraneLaws, UnstretchedMembraneCarriesNoTension) {
                 const MembraneKinematics k = membrane_kinematics(n, projection(n));
                 EXPECT_NEAR(k.Is, 0.0, 1e-14);
                 EXPECT_NEAR(k.IIs, 0.0, 1e-14);
-                const Tensor33 t = law->tension(k);
+                const Matrix3 t = law->tension(k);
                 for (int a = 0; a < 3; ++a)
                     for (int b = 0; b < 3; ++b)
                         EXPECT_NEAR(t[a][b], 0.0, 1e-14) << name;
@@ -81,7 +81,7 @@ TEST(MembraneLaws, InflatedSphereIsotropicTension) {
     // T = Es/3 (1 - s^-6) (neo-Hookean), T = 2Es/3 (s^2 - 1 + alpha s^2 (s^4 - 1)) (Skalak).
     const real Es = 1.7, alpha = 3.0, s = 1.15;
     const Real3 n = unit_vector(0.7, 2.1);
-    Tensor33 G = projection(n);
+    Matrix3 G = projection(n);
     for (auto& row : G)
         for (real& v : row)
             v *= s * s;
@@ -91,8 +91,8 @@ TEST(MembraneLaws, InflatedSphereIsotropicTension) {
     const real Ts = 2 * Es / 3 * (s * s - 1 + alpha * s * s * (s * s * s * s - 1));
     const auto neo = make_membrane_law("neo_hookean", Es);
     const auto sk = make_membrane_law("skalak", Es, alpha);
-    const Tensor33 tn = neo->tension(k), ts = sk->tension(k);
-    const Tensor33 P = projection(n);
+    const Matrix3 tn = neo->tension(k), ts = sk->tension(k);
+    const Matrix3 P = projection(n);
     for (int a = 0; a < 3; ++a)
         for (int b = 0; b < 3; ++b) {
             EXPECT_NEAR(tn[a][b], Tn * P[a][b], 1e-14);

@@ -1,6 +1,6 @@
 """Membrane force |grad phi| f on prescribed shapes: error against exact loads vs resolution.
 
-Runs build/bin/efsi_membrane_force_study (solver/membrane/apps/force_study.cpp) on
+Runs build/bin/efsi_membrane_force_study (verification/drivers/membrane_force_study.cpp) on
   inflate: a sphere (3D) / circle (2D) of radius R0 stretched uniformly by s = 1.2: the
            exact load is normal, 2T/R in 3D (T/R in 2D), R = s R0, no tangential part;
   linear:  the same reference surface moved by a general linear map x = c + A X (an

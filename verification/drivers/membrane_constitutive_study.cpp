@@ -19,8 +19,8 @@ using namespace efsi;
 
 namespace {
 
-Tensor33 flat_tension(const MembraneLaw& law, real l1, real l2) {
-    Tensor33 Gs{};
+Matrix3 flat_tension(const MembraneLaw& law, real l1, real l2) {
+    Matrix3 Gs{};
     Gs[0][0] = l1 * l1;
     Gs[1][1] = l2 * l2;
     return law.tension(membrane_kinematics({0, 0, 1}, Gs));
@@ -64,7 +64,7 @@ int main(int argc, char** argv) {
         const real l2 = 0.5 * (lo + hi);
         const real t1 = flat_tension(*law, l1, l2)[0][0];
         // The law itself at the closed-form lambda2.
-        const Tensor33 tx = flat_tension(*law, l1, l2x);
+        const Matrix3 tx = flat_tension(*law, l1, l2x);
         const real scale = std::max(std::abs(t1x), Gs * 1e-3);
         err_solve = std::max({err_solve, std::abs(t1 - t1x) / scale, std::abs(l2 - l2x)});
         err_law = std::max(err_law, std::abs(tx[0][0] - t1x) / std::max(std::abs(t1x), Gs));

@@ -14,6 +14,7 @@
 #include "bodies/body.hpp"
 #include "bodies/transport.hpp"
 #include "boundary/boundary.hpp"
+#include "core/matrix3.hpp"
 #include "linear/structured_solver.hpp"
 #include "membrane/kinematics.hpp"
 #include "parallel/decomposition.hpp"
@@ -32,10 +33,10 @@ namespace {
 enum class Flow { Shear, Extension, Rotation };
 
 /// exp(A t) for the three flows (nilpotent, diagonal, or the generator of z rotations).
-Matrix33 flow_map(const Matrix33& A, real t, Flow flow) {
+Matrix3 flow_map(const Matrix3& A, real t, Flow flow) {
     if (flow == Flow::Rotation)
         return {{{std::cos(t), -std::sin(t), 0}, {std::sin(t), std::cos(t), 0}, {0, 0, 1}}};
-    Matrix33 F{};
+    Matrix3 F{};
     for (int a = 0; a < 3; ++a)
         for (int b = 0; b < 3; ++b)
             F[a][b] = flow == Flow::Shear ? (a == b ? 1.0 : 0.0) + A[a][b] * t
@@ -44,23 +45,15 @@ Matrix33 flow_map(const Matrix33& A, real t, Flow flow) {
 }
 
 /// Area ratio J = sqrt(II) of a surface tensor (Gs has a zero eigenvalue).
-real area_ratio(const Matrix33& G) {
+real area_ratio(const Matrix3& G) {
     return std::sqrt(std::max(second_invariant(G), 0.0));
 }
 
-Real3 mat_vec(const Matrix33& M, const Real3& x) {
-    Real3 y{};
-    for (int a = 0; a < 3; ++a)
-        for (int b = 0; b < 3; ++b)
-            y[a] += M[a][b] * x[b];
-    return y;
-}
-
 /// Exact Gs (or B when `projection` is false) at lab point x, time t.
-Matrix33 exact(const Matrix33& A, Flow flow, const Real3& c0, const Real3& x, real t,
-               bool projection, int dim) {
-    const Matrix33 F = flow_map(A, t, flow);
-    const Matrix33 Finv = flow_map(A, -t, flow);
+Matrix3 exact(const Matrix3& A, Flow flow, const Real3& c0, const Real3& x, real t, bool projection,
+              int dim) {
+    const Matrix3 F = flow_map(A, t, flow);
+    const Matrix3 Finv = flow_map(A, -t, flow);
     const Real3 X = mat_vec(Finv, x);
     Real3 n{};
     real len = 0;
@@ -69,11 +62,11 @@ Matrix33 exact(const Matrix33& A, Flow flow, const Real3& c0, const Real3& x, re
         len += n[d] * n[d];
     }
     len = std::sqrt(len);
-    Matrix33 P{};
+    Matrix3 P{};
     for (int a = 0; a < 3; ++a)
         for (int b = 0; b < 3; ++b)
             P[a][b] = (a == b ? 1.0 : 0.0) - (projection ? n[a] * n[b] / (len * len) : 0.0);
-    Matrix33 G{};
+    Matrix3 G{};
     for (int a = 0; a < 3; ++a)
         for (int b = 0; b < 3; ++b)
             for (int c = 0; c < 3; ++c)
@@ -115,7 +108,7 @@ int main(int argc, char** argv) {
         Decomposition dec(MPI_COMM_WORLD, g, periodic_directions(bc));
         HaloFiller halos(dec, bc);
 
-        Matrix33 A{};
+        Matrix3 A{};
         if (kind == Flow::Shear)
             A[0][1] = 1;
         else if (kind == Flow::Rotation)
@@ -146,7 +139,7 @@ int main(int argc, char** argv) {
         membrane.allocate(patch);
         for_each_in(patch.local, [&](int i, int j, int k) {
             const Real3 x = position(g, dec.block(), Location::Cell, i, j, k);
-            const Matrix33 G0 = exact(A, kind, c0, x, 0.0, true, dim);
+            const Matrix3 G0 = exact(A, kind, c0, x, 0.0, true, dim);
             for (int a = 0; a < 3; ++a)
                 for (int b = a; b < 3; ++b) {
                     const int s = SymmetricTensorField::slot(a, b, dim);
@@ -175,7 +168,7 @@ int main(int argc, char** argv) {
         // Errors over the material shell R/2 < |X - c0| < 3R/2.
         real e2[2] = {0, 0}, emax[2] = {0, 0}, norm2[2] = {0, 0}, j2 = 0;
         std::int64_t count = 0;
-        const Matrix33 Finv = flow_map(A, -end_time, kind);
+        const Matrix3 Finv = flow_map(A, -end_time, kind);
         for_each_in(patch.local, [&](int i, int j, int k) {
             const Real3 x = position(g, dec.block(), Location::Cell, i, j, k);
             const Real3 X = mat_vec(Finv, x);
@@ -187,8 +180,8 @@ int main(int argc, char** argv) {
             ++count;
             const Body* bodies[2] = {&solid, &membrane};
             for (int m = 0; m < 2; ++m) {
-                const Matrix33 E = exact(A, kind, c0, x, end_time, m == 1, dim);
-                Matrix33 T{};
+                const Matrix3 E = exact(A, kind, c0, x, end_time, m == 1, dim);
+                Matrix3 T{};
                 for (int a = 0; a < 3; ++a)
                     for (int b = 0; b < 3; ++b) {
                         T[a][b] = bodies[m]->tensor().value(a, b, {i, j, k});

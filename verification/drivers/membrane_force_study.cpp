@@ -35,6 +35,7 @@
 // the cross-code comparison with the FE surface load, verification/studies/cross_code.py).
 #include "bodies/body.hpp"
 #include "boundary/boundary.hpp"
+#include "core/matrix3.hpp"
 #include "io/field_output.hpp"
 #include "linear/structured_solver.hpp"
 #include "membrane/membrane_force.hpp"
@@ -53,46 +54,10 @@ using namespace efsi;
 
 namespace {
 
-Real3 mat_vec(const Tensor33& M, const Real3& x) {
-    Real3 y{};
-    for (int a = 0; a < 3; ++a)
-        for (int b = 0; b < 3; ++b)
-            y[a] += M[a][b] * x[b];
-    return y;
-}
-
-Tensor33 transpose(const Tensor33& M) {
-    Tensor33 T{};
-    for (int a = 0; a < 3; ++a)
-        for (int b = 0; b < 3; ++b)
-            T[a][b] = M[b][a];
-    return T;
-}
-
-Tensor33 inverse(const Tensor33& M) {
-    Tensor33 C{};
-    for (int a = 0; a < 3; ++a)
-        for (int b = 0; b < 3; ++b) {
-            const int a1 = (a + 1) % 3, a2 = (a + 2) % 3, b1 = (b + 1) % 3, b2 = (b + 2) % 3;
-            C[b][a] = M[a1][b1] * M[a2][b2] - M[a1][b2] * M[a2][b1];
-        }
-    const real det = M[0][0] * C[0][0] + M[0][1] * C[1][0] + M[0][2] * C[2][0];
-    for (auto& row : C)
-        for (real& v : row)
-            v /= det;
-    return C;
-}
-
-real determinant(const Tensor33& M) {
-    return M[0][0] * (M[1][1] * M[2][2] - M[1][2] * M[2][1]) -
-           M[0][1] * (M[1][0] * M[2][2] - M[1][2] * M[2][0]) +
-           M[0][2] * (M[1][0] * M[2][1] - M[1][1] * M[2][0]);
-}
-
 /// Gs = A P_R A^T for the reference unit normal nR (P_R = I - nR nR; in 2D nR_z = 0, so
 /// P_R keeps zz = 1: the cylinder's generators are unstretched).
-Tensor33 surface_tensor(const Tensor33& A, const Real3& nR) {
-    Tensor33 G{};
+Matrix3 surface_tensor(const Matrix3& A, const Real3& nR) {
+    Matrix3 G{};
     for (int a = 0; a < 3; ++a)
         for (int b = 0; b < 3; ++b)
             for (int c = 0; c < 3; ++c)
@@ -208,7 +173,7 @@ int main(int argc, char** argv) {
         const auto law = make_membrane_law(law_name, Es, alpha);
 
         // The map.
-        Tensor33 A{};
+        Matrix3 A{};
         for (int a = 0; a < 3; ++a)
             A[a][a] = map == "inflate" ? stretch : 1.0;
         if (dim == 2) A[2][2] = 1;
@@ -218,7 +183,7 @@ int main(int argc, char** argv) {
             else
                 A = {{{1.15, 0.12, 0.0}, {-0.05, 0.9, 0.0}, {0.0, 0.0, 1.0}}};
         }
-        const Tensor33 Ainv = inverse(A), AinvT = transpose(Ainv);
+        const Matrix3 Ainv = inverse(A), AinvT = transpose(Ainv);
         const real R0 = 0.5;
         const real rg =
             R0 *
@@ -267,11 +232,11 @@ int main(int argc, char** argv) {
                 } else if (kappa_r == "current") {
                     // L = (rg / R0) |X|, X = A^-1 y: grad L = (rg/R0) A^-T X/|X|,
                     // H = (rg/R0) A^-T (I - X X/|X|^2) A^-1 / |X|.
-                    Tensor33 M{};
+                    Matrix3 M{};
                     for (int a = 0; a < 3; ++a)
                         for (int b = 0; b < 3; ++b)
                             M[a][b] = (a == b ? 1.0 : 0.0) - X[a] * X[b] / (len * len);
-                    Tensor33 H{};
+                    Matrix3 H{};
                     for (int a = 0; a < 3; ++a)
                         for (int b = 0; b < 3; ++b)
                             for (int e = 0; e < 3; ++e)
@@ -286,7 +251,7 @@ int main(int argc, char** argv) {
             }
             for (real& comp : X)
                 comp /= len;
-            const Tensor33 G = surface_tensor(A, X);
+            const Matrix3 G = surface_tensor(A, X);
             for (int a = 0; a < 3; ++a)
                 for (int b = a; b < 3; ++b) {
                     const int s = SymmetricTensorField::slot(a, b, dim);
@@ -359,8 +324,8 @@ int main(int argc, char** argv) {
         const real R = stretch * R0;
         real T = 0;
         {
-            const Tensor33 G = surface_tensor(A, {1, 0, 0});
-            const Tensor33 tau = law->tension(membrane_kinematics({1, 0, 0}, G));
+            const Matrix3 G = surface_tensor(A, {1, 0, 0});
+            const Matrix3 tau = law->tension(membrane_kinematics({1, 0, 0}, G));
             T = tau[1][1]; // the in-plane tension along the y tangent at the x pole
         }
         for (const SurfacePoint& sp : reference_quadrature(dim, R0)) {
@@ -372,7 +337,7 @@ int main(int argc, char** argv) {
             for (real& v : nn)
                 v /= len;
             const MembraneKinematics kin = membrane_kinematics(nn, surface_tensor(A, sp.nR));
-            const Tensor33 tau = law->tension(kin);
+            const Matrix3 tau = law->tension(kin);
             const real dA = kin.J * sp.weight;
             for (std::size_t m = 0; m < nb; ++m) {
                 const real w = bump(m, x);

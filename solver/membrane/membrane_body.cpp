@@ -1,0 +1,138 @@
+#include "membrane/membrane_body.hpp"
+
+#include "interface/geometry.hpp"
+#include "interface/shapes.hpp"
+#include "membrane/surface_velocity.hpp"
+
+#include <cmath>
+
+namespace efsi {
+
+real membrane_time_step_limit(const GlobalGrid& g, real density, real viscosity, real es_max) {
+    if (es_max <= 0) return 0;
+    real h = g.dx(0);
+    for (int d = 1; d < g.dim; ++d)
+        h = std::min(h, g.dx(d));
+    const real viscous = 4 * viscosity * h / es_max;
+    const real inertial = std::sqrt(density * h * h * h / (2 * 3.141592653589793 * es_max));
+    return std::max(viscous, inertial);
+}
+
+MembraneBody::MembraneBody(const BodyConfig& b, const BodyContext& ctx) : BodyPhysics(b, ctx) {
+    const Config& run = ctx.run;
+    law_ = make_membrane_law(b.law, b.elastic_modulus, b.area_dilation);
+    MembraneForceSettings ms;
+    ms.smoothing_width = b.smoothing_width;
+    ms.bending_modulus = b.bending_modulus;
+    force_ = std::make_unique<MembraneForce>(run.grid, ctx.halos, ms);
+    transport_ = std::make_unique<BodyTransport>(ctx.halos);
+    // Gs is extended from the core of the band to the whole band: layers enough to reach
+    // the band's edge (phi = band cutoff 1e-5, |psi| = 5.75 eps) from the core's
+    // (|psi| = eps atanh(1 - 2 t)), plus one for the force's stencil; or, with
+    // strain_extension = normal, along the normals from the core (normal_extension.hpp).
+    if (b.strain_extension == StrainExtension::Normal) {
+        normal_extension_ =
+            std::make_unique<NormalExtension>(ctx.halos, b.name, b.smoothing_width, b.strain_core);
+    } else if (b.extension_threshold > 0) {
+        const real cutoff = MembraneForceSettings{}.band_cutoff;
+        const int layers =
+            int(std::ceil((std::atanh(1 - 2 * cutoff) - std::atanh(1 - 2 * b.extension_threshold)) *
+                          b.smoothing_width)) +
+            2;
+        extension_ = std::make_unique<TensorExtension>(ctx.halos, b.extension_threshold, layers,
+                                                       /*two_sided=*/true);
+    }
+    const real membrane = membrane_time_step_limit(run.grid, run.fluid.density, run.fluid.viscosity,
+                                                   law_->stiffest_modulus());
+    if (membrane > 0) limits_.push_back({"membrane", membrane});
+    const real bending = bending_time_step_limit(run.grid, run.fluid.density, run.fluid.viscosity,
+                                                 b.bending_modulus);
+    if (bending > 0) limits_.push_back({"bending", bending});
+}
+
+MembraneBody::~MembraneBody() = default;
+
+void MembraneBody::initialise(Body& body, const Shape* shape) {
+    if (!shape) return; // a mask: Gs stays the identity
+    const GlobalGrid& g = ctx_.dec.grid();
+    const Field& phi = body.phi();
+    // Gs = P_R = I - n_R n_R, n_R the normal of the shape's level sets through each
+    // point (exact on the surface, its natural extension off it), by central
+    // differences of the level function with a step far below the cell size.
+    const real step = 1e-6 * g.dx(0);
+    for_each_in(phi.owned(), [&](int a, int b, int c) {
+        const Real3 x = position(g, ctx_.dec.block(), Location::Cell, a, b, c);
+        Real3 n{0, 0, 0};
+        real len = 0;
+        for (int d = 0; d < g.dim; ++d) {
+            Real3 xp = x, xm = x;
+            xp[d] += step;
+            xm[d] -= step;
+            n[d] = shape->level(xp) - shape->level(xm);
+            len += n[d] * n[d];
+        }
+        len = std::sqrt(len);
+        for (int r = 0; r < 3; ++r)
+            for (int q = r; q < 3; ++q) {
+                const int slot = SymmetricTensorField::slot(r, q, g.dim);
+                if (slot < 0) continue;
+                const real nn = len > 0 ? n[r] * n[q] / (len * len) : 0.0;
+                body.tensor().comp[slot](a, b, c) = (r == q ? 1.0 : 0.0) - nn;
+            }
+    });
+    for (Field& comp : body.tensor().comp)
+        ctx_.halos.fill(comp, body.patch());
+    if (Field* kr = body.reference_curvature()) {
+        // kappa_R = the curvature of the shape's level set through each point
+        // (level_set_curvature: the mean curvature in 3D, the section's in 2D; 1/r
+        // around a sphere), exact on the surface. Gradient and Hessian by central
+        // differences of the level function with a step of h/100: truncation
+        // (h/100)^2 relative, round-off ~1e-16 |L| / (h/100)^2, both below 1e-7.
+        const real s = 1e-2 * g.dx(0);
+        for_each_in(phi.owned(), [&](int a, int b, int c) {
+            const Real3 x = position(g, ctx_.dec.block(), Location::Cell, a, b, c);
+            auto L = [&](int d1, int s1, int d2, int s2) {
+                Real3 y = x;
+                y[d1] += s1 * s;
+                y[d2] += s2 * s;
+                return shape->level(y);
+            };
+            const real l0 = shape->level(x);
+            Real3 grad{0, 0, 0};
+            Matrix3 H{};
+            for (int d = 0; d < g.dim; ++d) {
+                const real lp = L(d, 1, d, 0), lm = L(d, -1, d, 0);
+                grad[d] = (lp - lm) / (2 * s);
+                H[d][d] = (lp - 2 * l0 + lm) / (s * s);
+                for (int e = d + 1; e < g.dim; ++e)
+                    H[d][e] = H[e][d] =
+                        (L(d, 1, e, 1) - L(d, 1, e, -1) - L(d, -1, e, 1) + L(d, -1, e, -1)) /
+                        (4 * s * s);
+            }
+            (*kr)(a, b, c) = level_set_curvature(H, grad, g.dim);
+        });
+        ctx_.halos.fill(*kr, body.patch());
+    }
+}
+
+void MembraneBody::add_force(Body& body, VelocityField& force) {
+    force_->add(body, *law_, force);
+}
+
+void MembraneBody::carry_tensor(Body& body, const BodyStep& s) {
+    const VelocityField* carrier = &s.u;
+    if (cfg_.carried_by_surface_velocity())
+        s.timers.time("bodies_surface_velocity", [&] {
+            carrier = &s.surface_velocity->compute(body, cfg_.smoothing_width,
+                                                   cfg_.surface_velocity_reach);
+        });
+    s.timers.time("bodies_tensor", [&] { transport_->advance(body, *carrier, s.dt); });
+}
+
+void MembraneBody::extend_tensor(Body& body, const BodyStep& s) {
+    if (extension_) s.timers.time("bodies_extension", [&] { extension_->apply(body); });
+    if (normal_extension_)
+        s.timers.time("bodies_extension", [&] { normal_extension_->apply(body); });
+}
+
+} // namespace efsi

@@ -1,0 +1,54 @@
+// A membrane as a body (bodies/body_physics.hpp): a smoothed band carrying the surface
+// tensor Gs (and kappa_R with bending), the force of its law |grad phi| f (membrane_force.hpp),
+// Gs carried by the surface's velocity (surface_velocity.hpp) or the local one, and rebuilt
+// off the band's core after each step (normal_extension.hpp or the layered TensorExtension).
+// Its time-step limits are "membrane" (in-plane, membrane_time_step_limit) and, with
+// bending, "bending" (bending_time_step_limit).
+#pragma once
+
+#include "bodies/body_physics.hpp"
+#include "bodies/transport.hpp"
+#include "membrane/membrane_force.hpp"
+#include "membrane/membrane_law.hpp"
+#include "membrane/normal_extension.hpp"
+#include "solid/tensor_extension.hpp"
+
+#include <memory>
+
+namespace efsi {
+
+/// Explicit membrane force limit (0 without membranes): the larger of the viscous and the
+/// inertial capillary-type limits, 4 mu h / K and sqrt(rho h^3 / (2 pi K)), K the stiffest
+/// small-strain modulus of the laws in the scene (MembraneLaw::stiffest_modulus; Es for the
+/// neo-Hookean law). Galusinski & Vigneaux 2008 show the stable step follows the viscous one
+/// at low Re and the inertial one, Brackbill et al. 1992, at high Re. The factor 4 is
+/// measured (docs/method.md, "Membranes in the time step"): at Re = 0.01 the neo-Hookean
+/// capsule runs stably up to 8 mu h / Es (2D d/16, Ca 0.002: 12 mu h / Es blows up; 3D d/8
+/// Ca 0.0125 and d/16 Ca 0.0125 stable at 8 mu h / Es), so with cfl = 0.5 the automatic step
+/// 2 mu h / K keeps a margin of 4 while D(t) changes by < 5e-4.
+real membrane_time_step_limit(const GlobalGrid& grid, real density, real viscosity, real es_max);
+
+class MembraneBody final : public BodyPhysics {
+  public:
+    MembraneBody(const BodyConfig& body, const BodyContext& ctx);
+    ~MembraneBody() override;
+    bool carries_tensor() const override { return true; }
+    /// Gs = P_R = I - n_R n_R and kappa_R from the shape's level sets (kept for a mask).
+    void initialise(Body& body, const Shape* shape) override;
+    bool adds_force() const override { return true; }
+    void add_force(Body& body, VelocityField& force) override;
+    const MembraneLaw& law() const { return *law_; }
+
+  protected:
+    void carry_tensor(Body& body, const BodyStep& step) override;
+    void extend_tensor(Body& body, const BodyStep& step) override;
+
+  private:
+    std::unique_ptr<MembraneLaw> law_;
+    std::unique_ptr<MembraneForce> force_;
+    std::unique_ptr<BodyTransport> transport_;
+    std::unique_ptr<TensorExtension> extension_;        ///< strain_extension = layers
+    std::unique_ptr<NormalExtension> normal_extension_; ///< strain_extension = normal
+};
+
+} // namespace efsi

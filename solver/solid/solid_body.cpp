@@ -1,0 +1,52 @@
+#include "solid/solid_body.hpp"
+
+namespace efsi {
+
+namespace {
+
+/// mu_s of a solid: its solid_viscosity, or the fluid's when that is negative.
+real solid_viscosity(const BodyConfig& b, const Config& run) {
+    return b.solid_viscosity >= 0 ? b.solid_viscosity : run.fluid.viscosity;
+}
+
+} // namespace
+
+SolidBody::SolidBody(const BodyConfig& body, const BodyContext& ctx) : BodyPhysics(body, ctx) {
+    law_.shear_modulus = body.shear_modulus;
+    law_.viscosity = solid_viscosity(body, ctx.run);
+    transport_ = std::make_unique<BodyTransport>(ctx.halos);
+    // B is extended from the solid's mostly solid cells into the rest (docs/method.md).
+    if (body.extension_threshold > 0)
+        extension_ = std::make_unique<TensorExtension>(ctx.halos, body.extension_threshold, 4);
+    const real dt = elastic_time_step_limit(ctx.run.grid, ctx.run.fluid.density, {law_});
+    if (dt > 0) limits_.push_back({"elastic", dt});
+}
+
+void SolidBody::add_force(Body& body, VelocityField& force) {
+    if (law_.shear_modulus == 0) return;
+    for (Field& comp : body.tensor().comp)
+        ctx_.halos.fill(comp, body.patch());
+    add_elastic_force(force, body, law_, ctx_.run.grid, ctx_.dec.block());
+}
+
+void SolidBody::carry_tensor(Body& body, const BodyStep& s) {
+    s.timers.time("bodies_tensor", [&] { transport_->advance(body, s.u, s.dt); });
+}
+
+void SolidBody::extend_tensor(Body& body, const BodyStep& s) {
+    if (extension_) s.timers.time("bodies_extension", [&] { extension_->apply(body); });
+}
+
+FixedWall::FixedWall(const BodyConfig& body, const BodyContext& ctx)
+    : BodyPhysics(body, ctx), viscosity_(solid_viscosity(body, ctx.run)) {}
+
+bool FixedWall::add_pinning(const Body& body, Field& chi) const {
+    // Pinned bodies never move, so their share of K = dt chi / tau is fixed.
+    if (body.patch().empty()) return true;
+    const Field& phi = body.phi();
+    for_each_in(phi.owned(),
+                [&](int i, int j, int l) { chi(i, j, l) += phi(i, j, l) / cfg_.pin_tau_over_dt; });
+    return true;
+}
+
+} // namespace efsi

@@ -1,0 +1,140 @@
+// The [[body]] section at the config boundary (config/body_config.cpp): kinds, shapes,
+// interfaces and membrane laws become enums, read once; a value outside the allowed ones,
+// or a key that does not belong to the body's kind, is an InputError naming the key.
+#include "config/body_config.hpp"
+#include "membrane/membrane_law.hpp"
+#include "test_support.hpp"
+
+using namespace efsi;
+using efsi::test::case_from;
+using efsi::test::input_error_of;
+using ::testing::HasSubstr;
+
+namespace {
+
+const std::string box = R"(
+[grid]
+cells = [24, 20, 1]
+length = [1.2, 1.0, 0.05]
+
+[fluid]
+density = 1.0
+viscosity = 0.1
+
+[time]
+end_time = 1.0
+)";
+
+std::string membrane(const std::string& extra) {
+    return box + R"(
+[[body]]
+name = "capsule"
+kind = "membrane"
+elastic_modulus = 0.5
+shape = "cylinder"
+centre = [0.6, 0.5, 0.0]
+radius = 0.25
+interface = "smoothed"
+)" + extra;
+}
+
+} // namespace
+
+TEST(BodyConfig, ParsesKindsAndLawsIntoEnums) {
+    const Config c = case_from(membrane("law = \"skalak\"\nstrain_extension = \"normal\"\n"));
+    ASSERT_EQ(c.bodies.size(), 1u);
+    const BodyConfig& b = c.bodies[0];
+    EXPECT_EQ(b.kind, BodyKind::Membrane);
+    EXPECT_EQ(b.law, MembraneLawKind::Skalak);
+    EXPECT_EQ(b.shape, BodyShape::Cylinder);
+    EXPECT_EQ(b.interface, InterfaceKind::Smoothed);
+    EXPECT_EQ(b.strain_velocity, StrainVelocity::Surface);
+    EXPECT_EQ(b.strain_extension, StrainExtension::Normal);
+    EXPECT_TRUE(b.carried_by_surface_velocity());
+    // Defaults: a passive body with a sharp interface; the neo-Hookean law.
+    const Config p = case_from(box + R"(
+[[body]]
+name = "tracer"
+shape = "sphere"
+centre = [0.6, 0.5, 0.0]
+radius = 0.2
+)");
+    EXPECT_EQ(p.bodies[0].kind, BodyKind::Passive);
+    EXPECT_EQ(p.bodies[0].interface, InterfaceKind::Sharp);
+    EXPECT_EQ(p.bodies[0].law, MembraneLawKind::NeoHookean);
+    EXPECT_FALSE(p.bodies[0].carried_by_surface_velocity());
+}
+
+TEST(BodyConfig, KeywordsSpellTheCaseFileNames) {
+    EXPECT_EQ(keyword(BodyKind::Passive), "passive");
+    EXPECT_EQ(keyword(BodyKind::Solid), "solid");
+    EXPECT_EQ(keyword(BodyKind::Membrane), "membrane");
+    EXPECT_EQ(keyword(MembraneLawKind::NeoHookean), "neo_hookean");
+    EXPECT_EQ(keyword(MembraneLawKind::Skalak), "skalak");
+    EXPECT_EQ(keyword(BodyShape::Biconcave), "biconcave");
+    EXPECT_EQ(keyword(BodyShape::Mask), "mask");
+    EXPECT_EQ(keyword(InterfaceKind::Smoothed), "smoothed");
+    EXPECT_EQ(keyword(StrainVelocity::Local), "local");
+    EXPECT_EQ(keyword(StrainExtension::Layers), "layers");
+    for (const auto name : membrane_law_names)
+        EXPECT_EQ(keyword(parse_membrane_law(std::string(name))), name);
+}
+
+TEST(BodyConfig, UnknownKindOrLawNamesTheKey) {
+    const std::string kind = input_error_of([&] {
+        case_from(box + R"(
+[[body]]
+name = "cell"
+kind = "fluid"
+shape = "sphere"
+centre = [0.6, 0.5, 0.0]
+radius = 0.2
+)");
+    });
+    EXPECT_THAT(kind, HasSubstr("body[0].kind"));
+    EXPECT_THAT(kind, HasSubstr("passive, solid, membrane"));
+    const std::string law = input_error_of([&] { case_from(membrane("law = \"mooney\"\n")); });
+    EXPECT_THAT(law, HasSubstr("body[0].law"));
+    EXPECT_THAT(law, HasSubstr("neo_hookean, skalak"));
+    const std::string velocity =
+        input_error_of([&] { case_from(membrane("strain_velocity = \"global\"\n")); });
+    EXPECT_THAT(velocity, HasSubstr("body[0].strain_velocity"));
+    EXPECT_THAT(input_error_of([&] { parse_membrane_law("mooney", "--law"); }),
+                HasSubstr("--law = \"mooney\""));
+    EXPECT_THROW(make_membrane_law("mooney", 1.0), InputError);
+}
+
+TEST(BodyConfig, MembraneKeysBelongToMembranes) {
+    EXPECT_THAT(input_error_of([&] {
+                    case_from(box + R"(
+[[body]]
+name = "particle"
+kind = "solid"
+shear_modulus = 1.0
+elastic_modulus = 0.5
+shape = "sphere"
+centre = [0.6, 0.5, 0.0]
+radius = 0.2
+)");
+                }),
+                HasSubstr("elastic_modulus is for kind = \"membrane\""));
+    EXPECT_THAT(input_error_of([&] {
+                    case_from(membrane("").replace(membrane("").find("elastic_modulus = 0.5"), 21,
+                                                   "elastic_modulus = 0.0"));
+                }),
+                HasSubstr("needs body.elastic_modulus > 0"));
+    EXPECT_THAT(input_error_of([&] {
+                    case_from(box + R"(
+[[body]]
+name = "capsule"
+kind = "membrane"
+elastic_modulus = 0.5
+shape = "cylinder"
+centre = [0.6, 0.5, 0.0]
+radius = 0.25
+)");
+                }),
+                HasSubstr("a membrane needs interface = \"smoothed\""));
+    EXPECT_THAT(input_error_of([&] { case_from(membrane("pinned = true\n")); }),
+                HasSubstr("pinned = true is only for kind = \"solid\""));
+}
