@@ -22,7 +22,9 @@ struct Channel {
 };
 
 /// n cells of size h per direction; walls in y (moving with `top` / `bottom` in x).
-inline Channel make_channel(Int3 n, real h, real bottom = 0, real top = 0) {
+/// `comm` MPI_COMM_SELF gives every rank the whole grid (the serial reference).
+inline Channel make_channel(Int3 n, real h, real bottom = 0, real top = 0,
+                            MPI_Comm comm = MPI_COMM_WORLD) {
     Channel c;
     c.g.dim = 3;
     c.g.cells = n;
@@ -31,7 +33,7 @@ inline Channel make_channel(Int3 n, real h, real bottom = 0, real top = 0) {
     c.bc[1][0].type = c.bc[1][1].type = BoundaryType::Wall;
     c.bc[1][0].velocity = {bottom, 0, 0};
     c.bc[1][1].velocity = {top, 0, 0};
-    c.dec = std::make_unique<Decomposition>(MPI_COMM_WORLD, c.g, periodic_directions(c.bc));
+    c.dec = std::make_unique<Decomposition>(comm, c.g, periodic_directions(c.bc));
     c.halos = std::make_unique<HaloFiller>(*c.dec, c.bc);
     return c;
 }

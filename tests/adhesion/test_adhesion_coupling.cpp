@@ -452,3 +452,41 @@ TEST(AdhesionForces, BondsAcrossAPeriodicBoundaryUseTheNearestImage) {
     for (int a = 0; a < 3; ++a)
         EXPECT_LE(std::abs(t[a]), 1e-14 * cp.stats().max_tension);
 }
+
+TEST(AdhesionRanks, SameBitsAsTheSerialRun) {
+    // The coupling on the world's decomposition and, on every rank, on a serial one
+    // (MPI_COMM_SELF): the same receptor positions, bonds and face forces, bit for bit.
+    const real G = 800;
+    auto field = [&](const test::Channel& c) {
+        return test::velocity_from(c, [&](int comp, const Real3& x) {
+            return comp == 0   ? G * x[1] + 3e-4 * std::sin(x[2] / um)
+                   : comp == 2 ? 1e-4 * std::cos(x[0] / um) * std::sin(x[1] * 0.7 / um)
+                               : 0.0;
+        });
+    };
+    test::Channel world = test::make_channel({16, 16, 16}, 0.25 * um, 0, G * 4 * um);
+    test::Channel self = test::make_channel({16, 16, 16}, 0.25 * um, 0, G * 4 * um, MPI_COMM_SELF);
+    std::vector<BodyConfig> bodies{test::sphere_body("p", {2 * um, 1.03 * um, 2 * um}, 1 * um)};
+    AdhesionConfig cfg = adhesion_config(1, 2000, {1.0 * um, 0, 1.0 * um}, {3.0 * um, 0, 3.0 * um});
+    cfg.parameters.k_on = 2e6;
+    Coupling a(cfg, bodies, *world.dec, 1000, 1e-3), b(cfg, bodies, *self.dec, 1000, 1e-3);
+    const VelocityField ua = field(world), ub = field(self);
+    VelocityField fa = zero_field(world), fb = zero_field(self);
+    for (std::uint64_t step = 0; step < 10; ++step) {
+        a.add_bond_forces(fa, 1e-7);
+        b.add_bond_forces(fb, 1e-7);
+        a.advance(ua, 1e-7, step);
+        b.advance(ub, 1e-7, step);
+    }
+    ASSERT_GT(a.bond_count(), 3u);
+    for (std::size_t k = 0; k < a.receptors().size(); ++k) {
+        ASSERT_EQ(a.receptors()[k].ligand, b.receptors()[k].ligand);
+        for (int d = 0; d < 3; ++d)
+            ASSERT_EQ(a.receptors()[k].x[d], b.receptors()[k].x[d]) << "receptor " << k;
+    }
+    const Int3 off = world.dec->block().offset;
+    for (int comp = 0; comp < 3; ++comp)
+        for_each_cell(world.dec->block().cells, [&](int i, int j, int k) {
+            ASSERT_EQ(fa[comp](i, j, k), fb[comp](i + off[0], j + off[1], k + off[2]));
+        });
+}
