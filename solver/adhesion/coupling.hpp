@@ -92,7 +92,8 @@ class Coupling {
   public:
     /// Places the receptors and ligands (nothing at all when !config.enabled). `bodies` are
     /// the case's [[body]] entries (for the receptors' initial surfaces), `density` and
-    /// `viscosity` the fluid's (for the time-step limits).
+    /// `viscosity` the fluid's (for the time-step limits). Keeps a reference to `dec`, which
+    /// must outlive it.
     Coupling(const AdhesionConfig& config, const std::vector<BodyConfig>& bodies,
              const Decomposition& dec, real density, real viscosity);
 
