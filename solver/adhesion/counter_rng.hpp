@@ -38,10 +38,12 @@ constexpr Philox4x32 philox4x32_10(Philox4x32 ctr, std::array<std::uint32_t, 2> 
 /// What a draw is for: distinct purposes give independent numbers for the same receptor
 /// and step.
 enum class Purpose : std::uint32_t {
-    bind = 1,     ///< does a free receptor bind this step; which ligand it picks
-    priority = 2, ///< who wins when several receptors pick the same ligand
-    rupture = 3,  ///< does a bond break this step
-    test = 255,   ///< reserved for the tests
+    bind = 1,         ///< does a free receptor bind this step; which ligand it picks
+    priority = 2,     ///< who wins when several receptors pick the same ligand
+    rupture = 3,      ///< does a bond break this step
+    place = 4,        ///< receptor placement: a point on the unit sphere (step = attempt)
+    place_accept = 5, ///< receptor placement: is that point kept (uniform area)
+    test = 255,       ///< reserved for the tests
 };
 
 inline constexpr std::uint64_t max_receptor_id = (std::uint64_t{1} << 56) - 1;

@@ -1,8 +1,7 @@
 // Parameters of the GPIb-alpha / vWF adhesion kinetics, SI units throughout (docs/method.md,
 // "Platelet adhesion (kinetic Monte Carlo)", lists each default with its source).
-// The module is API-only for now: no case key reads these yet. `validate` names each value
-// by the key it will have in a future [adhesion] table (adhesion.k_on, ...), so a reader can
-// pass the table through unchanged and keep the error messages.
+// The [adhesion] case table (config/adhesion_config.cpp) reads them under these names;
+// `validate` names each value by its key (adhesion.k_on, ...).
 #pragma once
 
 #include "core/types.hpp"

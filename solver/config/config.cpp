@@ -76,6 +76,7 @@ std::string case_fingerprint(const Config& c) {
                          keyword(b.law), b.elastic_modulus, b.area_dilation, b.bending_modulus,
                          keyword(b.strain_velocity), b.surface_velocity_reach));
     }
+    out += adhesion_fingerprint(c.adhesion);
     return out;
 }
 
@@ -356,6 +357,7 @@ Config read_config(toml::table& root, const std::filesystem::path& case_dir) {
                     fmt::format("body[{}].mask_file = \"{}\": not a regular file", k, b.mask_file));
         }
     c.vof = read_vof(top);
+    c.adhesion = read_adhesion(top, c.grid, c.bodies);
     {
         TableReader r = top.sub("parallel", "MPI decomposition");
         c.ranks = r.ivector3("ranks", Int3{0, 0, 0}, Range::closed(0, 1e6),

@@ -3,6 +3,7 @@
 #pragma once
 
 #include "boundary/boundary.hpp"
+#include "config/adhesion_config.hpp"
 #include "config/body_config.hpp"
 #include "core/types.hpp"
 #include "grid/grid.hpp"
@@ -71,6 +72,7 @@ struct Config {
     Int3 ranks{0, 0, 0};
     std::vector<BodyConfig> bodies;
     VofConfig vof;
+    AdhesionConfig adhesion;   ///< [adhesion]; enabled = false (and empty) without the table
     std::string resolved_toml; ///< the configuration with every default filled in
 };
 

@@ -190,6 +190,11 @@ std::int64_t Decomposition::sum(std::int64_t x) const {
     MPI_Allreduce(&x, &r, 1, MPI_INT64_T, MPI_SUM, cart_);
     return r;
 }
+void Decomposition::sum_in_place(std::span<real> values) const {
+    if (values.empty()) return;
+    MPI_Allreduce(MPI_IN_PLACE, values.data(), static_cast<int>(values.size()), mpi_real(), MPI_SUM,
+                  cart_);
+}
 void Decomposition::barrier() const {
     MPI_Barrier(cart_);
 }

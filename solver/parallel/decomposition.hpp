@@ -10,7 +10,7 @@
 #include <mpi.h>
 
 #include <array>
-
+#include <span>
 #include <string>
 #include <vector>
 
@@ -66,6 +66,8 @@ class Decomposition {
     std::array<real, 3> max(const std::array<real, 3>& x) const;
     real min(real x) const;
     std::int64_t sum(std::int64_t x) const;
+    /// Element-wise sum over the ranks of a whole array, in place (one collective).
+    void sum_in_place(std::span<real> values) const;
     void barrier() const;
     /// Abort every rank with a message (used when one rank finds a fatal error).
     [[noreturn]] void abort(const std::string& message) const;

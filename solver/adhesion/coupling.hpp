@@ -1,0 +1,162 @@
+// Platelet adhesion coupled to the flow (docs/method.md, "Platelet adhesion", "Coupling to
+// the flow"): GPIb-alpha receptors on the surfaces of the bodies named in
+// [[adhesion.receptors]], carried with the flow; vWF ligands on the wall boxes of
+// [[adhesion.ligand_regions]]; the kinetic Monte Carlo of kinetics.hpp between them; each
+// bond's spring force spread onto the face force field at the receptor and, opposite, at
+// the ligand (grid_transfer.hpp), so the momentum added is zero to round-off.
+//
+// Where it goes in a time step of length dt (the time-step loop calls, in this order):
+//   1. dt = min(other limits, time.cfl * stable_time_step())   when choosing dt
+//   2. add_bond_forces(force, dt)    after the force field is zeroed and the elastic and
+//                                    membrane forces are added, before the flow step
+//   3. the flow step (SMAC) with that force
+//   4. advance(u_mid, dt, step)      after the bodies are moved with u_mid = (v^n + v^n+1)/2,
+//                                    its halos filled; `step` = the step's index at its start
+// Everything in a step uses the receptors' positions and bonds at the start of the step:
+// the forces of (2) are those of the bonds the kinetics of (4) then breaks or keeps.
+//
+// Ranks: every rank holds every receptor, every ligand and every bond, and does the same
+// kinetics on them (the draws are counter-based, so this is the same run on any rank
+// count); interpolation is one element-wise sum of 8 values per receptor and component
+// (24 N doubles, twice per step for the midpoint rule) and spreading writes owned faces
+// only. Cost per step: O(N) per rank for N receptors plus two reductions of 24 N doubles
+// (N ~ 100-1000 per platelet: ~0.2 MB for 1000 receptors, well under a flow step). The
+// physics makes no MPI call: the reductions go through the Decomposition.
+//
+// Skip what is not needed: a body with no bond whose receptors' bounding box is farther than
+// reactive_distance + margin from every ligand box gets no kinetics, no ligand lookup, no
+// draw and no force work (its receptors are still carried with the flow: they must be where
+// the body is when it comes near). Without [adhesion] the object holds nothing and every
+// call returns at once.
+//
+// Periodic directions: a body's receptors are stored as one cloud (never split by the
+// wrap; the cloud is shifted by a box length when its centre leaves the box and it holds no
+// bond); interpolation and spreading wrap indices. The kinetics and the bond forces see a
+// bound receptor at its periodic image nearest its ligand (minimum image) and a free one
+// wrapped into the box; the skip test measures box distances over the periodic images. What
+// is not done: a free receptor within the reactive distance of a periodic boundary does not
+// see the ligands just across it (a strip one reactive distance wide, 70 nm by default).
+#pragma once
+
+#include "adhesion/bond.hpp"
+#include "adhesion/grid_transfer.hpp"
+#include "adhesion/kinetics.hpp"
+#include "config/adhesion_config.hpp"
+#include "config/body_config.hpp"
+
+#include <algorithm>
+#include <limits>
+#include <optional>
+#include <span>
+#include <string>
+#include <vector>
+
+namespace efsi::adhesion {
+
+/// The receptors of one body: receptors()[begin, end).
+struct BodyReceptors {
+    std::size_t body = 0; ///< index in Config::bodies
+    std::string name;
+    std::size_t begin = 0, end = 0;
+    real mass = 0;         ///< rho V of the initial shape [kg]
+    real drag = 0;         ///< 6 pi mu a, a the radius of the sphere of equal volume [N s/m]
+    std::size_t bonds = 0; ///< bonds now
+    bool near = false;     ///< passed the skip test in the last advance
+    std::size_t work = 0;  ///< first index of its receptors in the kinetics' working copy
+    Real3 lo{}, hi{};      ///< bounding box of its receptors now [m]
+};
+
+struct CouplingStats {
+    // add_bond_forces
+    std::size_t bonds_spread = 0; ///< bonds whose forces went to the grid
+    std::size_t face_writes = 0;  ///< face values written on this rank (work counter)
+    real max_tension = 0;         ///< largest |sigma (l - lambda)| [N]
+    // advance
+    std::size_t bodies_near = 0;    ///< bodies that got kinetics
+    std::size_t bodies_skipped = 0; ///< bodies the skip test left alone
+    StepStats kinetics;             ///< over the bodies that got kinetics
+};
+
+/// The explicit-spring numbers of the coupling (docs/method.md, "Time-step limits").
+struct SpringLimits {
+    real kernel_mass = 0; ///< rho h^3 [kg]
+    real kernel_drag = 0; ///< 6 pi mu h [N s/m]
+    real h = 0;           ///< cell size [m]
+    /// Mobility over one step of a body of mass m and drag z: min(dt / m, 1 / z) [m/(N s)].
+    static real mobility(real dt, real m, real z) { return std::min(dt / m, 1 / z); }
+    /// Largest dt with n sigma dt mobility(dt) <= 2: max(sqrt(2 m / k), 2 z / k), k = n sigma.
+    static real stable_dt(real k, real m, real z);
+};
+
+class Coupling {
+  public:
+    /// Places the receptors and ligands (nothing at all when !config.enabled). `bodies` are
+    /// the case's [[body]] entries (for the receptors' initial surfaces), `density` and
+    /// `viscosity` the fluid's (for the time-step limits). Keeps a reference to `dec`, which
+    /// must outlive it.
+    Coupling(const AdhesionConfig& config, const std::vector<BodyConfig>& bodies,
+             const Decomposition& dec, real density, real viscosity);
+
+    bool active() const { return active_; }
+
+    /// The largest dt the current bonds allow (infinity without bonds): the explicit spring
+    /// limit of every body with bonds and of a single bond on its kernel. The time step
+    /// control multiplies it by time.cfl like its other limits.
+    real stable_time_step() const;
+
+    /// Adds every bond's force (positions at the start of the step) to `force` [N/m^3]:
+    /// +F at the receptor, -F at the ligand. Throws RunError naming the body (and its most
+    /// loaded bond) when its bonds make the explicit springs unstable at this dt, or naming
+    /// the bond (receptor, ligand, positions, force) when a bond's force would move its
+    /// receptor more than max_step_displacement cells in one step.
+    void add_bond_forces(VelocityField& force, real dt);
+
+    /// One step's kinetics (bonds break and form, from the states at the start of the step,
+    /// draws keyed by `step`), then every receptor carried with `u` (the velocity the bodies
+    /// moved with; halos filled) by the midpoint rule, periodic directions wrapped. Throws
+    /// RunError naming the receptor when one leaves the domain through a wall. Collective:
+    /// every rank calls it.
+    void advance(const VelocityField& u, real dt, std::uint64_t step);
+
+    std::span<const Receptor> receptors() const { return receptors_; }
+    std::span<const BodyReceptors> bodies() const { return bodies_; }
+    const LigandSet& ligands() const { return ligands_; }
+    const CouplingStats& stats() const { return stats_; }
+    std::size_t bond_count() const;
+    const SpringLimits& limits() const { return limits_; }
+
+    /// Carries the receptors with `u` only (no kinetics): the advection part of advance.
+    void carry(const VelocityField& u, real dt);
+
+  private:
+    void kinetics(real dt, std::uint64_t step);
+    void update_bounds(BodyReceptors& b);
+    /// x wrapped into the domain along the periodic directions.
+    Real3 canonical(Real3 x) const;
+    /// The periodic image of x nearest to `anchor`.
+    Real3 image_near(Real3 x, const Real3& anchor) const;
+    /// Is some ligand box within `d` of the box [lo, hi] or of one of its periodic images?
+    bool may_reach(const Real3& lo, const Real3& hi, real d) const;
+    /// Appends the receptors of b to work_ as the kinetics and the forces see them: a bound
+    /// receptor at its image nearest its ligand, a free one wrapped into the domain.
+    void copy_to_work(BodyReceptors& b);
+    [[noreturn]] void report_unstable_body(const BodyReceptors& b, real dt, real number) const;
+
+    bool active_ = false;
+    const Decomposition* dec_ = nullptr;
+    AdhesionParameters p_;
+    real max_step_displacement_ = 0.5;
+    std::optional<Kinetics> kin_;
+    LigandSet ligands_;
+    std::vector<Receptor> receptors_;
+    std::vector<BodyReceptors> bodies_;
+    SpringLimits limits_;
+    VelocityInterpolator interpolator_;
+    std::vector<Real3> x_, v_;
+    std::vector<Receptor> work_;
+    std::vector<Proposal> proposals_;
+    std::vector<BondLoad> loads_;
+    CouplingStats stats_;
+};
+
+} // namespace efsi::adhesion
