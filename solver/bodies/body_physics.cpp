@@ -32,6 +32,10 @@ bool BodyPhysics::add_pinning(const Body&, Field&) const {
 
 void BodyPhysics::carry_tensor(Body&, const BodyStep&) {}
 
+real BodyPhysics::restore_profile(Body&, const BodyStep&) {
+    return 0;
+}
+
 void BodyPhysics::extend_tensor(Body&, const BodyStep&) {}
 
 VofStepStats BodyPhysics::advance(Body& body, const BodyStep& s) {
@@ -41,6 +45,7 @@ VofStepStats BodyPhysics::advance(Body& body, const BodyStep& s) {
     s.timers.time("bodies_vof", [&] {
         local = vof_->advance_local(body.phi(), s.u, s.dt, s.step, &body.patch());
     });
+    local.clipped_volume += restore_profile(body, s);
     extend_tensor(body, s);
     return local;
 }

@@ -71,8 +71,8 @@ class BodyPhysics {
     virtual bool add_pinning(const Body& body, Field& chi) const;
 
     /// Carry the body over one flow step: the tensor with the velocity gradient of the step,
-    /// then phi, then the tensor's extension. Returns this rank's VOF statistics (reduced
-    /// by the caller after every body has advanced).
+    /// then phi (and its profile's restoration), then the tensor's extension. Returns this rank's
+    /// VOF statistics (reduced by the caller after every body has advanced).
     VofStepStats advance(Body& body, const BodyStep& step);
 
     /// The body's explicit time-step limits, each named (empty: none).
@@ -81,6 +81,9 @@ class BodyPhysics {
   protected:
     /// D T/Dt = L T + T L^T of the body's tensor over the step (nothing by default).
     virtual void carry_tensor(Body& body, const BodyStep& step);
+    /// Restore the shape of phi's profile after the VOF step (nothing by default); returns
+    /// the volume this rank clipped doing so [m^3].
+    virtual real restore_profile(Body& body, const BodyStep& step);
     /// Rebuild the tensor outside the cells where it is known (nothing by default).
     virtual void extend_tensor(Body& body, const BodyStep& step);
 

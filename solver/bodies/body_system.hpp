@@ -32,8 +32,9 @@ struct BodyDiagnostics {
     /// semi-axes, so L, B = the square roots of the eigenvalues of their x-y block.
     real taylor_deformation = 0;
     real inclination_over_pi = 0;
-    /// Largest tr(B) (solid) or tr(Gs) (membrane) over the cells with phi > 0 (0 without a
-    /// tensor): 3 at rest, and bounded in a steady deformation (docs/method.md, Solids).
+    /// Largest tr(B) over the cells with phi > 0 (solid; 3 at rest) or tr(Gs) over the
+    /// membrane's band 1e-5 < phi < 1 - 1e-5 (2 at rest in 3D and 2D); 0 without a tensor.
+    /// Bounded in a steady deformation (docs/method.md, Solids).
     real tensor_trace_max = 0;
 };
 

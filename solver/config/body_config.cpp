@@ -127,7 +127,7 @@ std::vector<BodyConfig> read_bodies(TableReader& top, const GlobalGrid& grid,
                      "covers the band, 1.5 keeps stiff membranes (Es or the Skalak area "
                      "modulus >~ 100 mu shear_rate a) stable (docs/method.md)");
         b.strain_extension = read_choice(
-            r, "strain_extension", StrainExtension::Layers, strain_extension_names,
+            r, "strain_extension", StrainExtension::Normal, strain_extension_names,
             "membrane: how Gs outside the band core is rebuilt after each step: normal (Gs "
             "kept in |psi| <= strain_core cells and projected, P Gs P, and copied outward "
             "along the normals from the foot point on phi = 1/2; I beyond the band) or layers "
@@ -136,6 +136,10 @@ std::vector<BodyConfig> read_bodies(TableReader& top, const GlobalGrid& grid,
         b.strain_core = r.number("strain_core", 1.0, Range::closed(0.0, 4.0), "cells",
                                  "membrane, strain_extension = normal: half-thickness of the "
                                  "band core whose transported Gs is kept");
+        b.profile_iterations =
+            int(r.integer("profile_iterations", 2, Range::closed(0, 100),
+                          "membrane: pseudo-steps per time step of the conservative "
+                          "restoration of phi's tanh profile (docs/method.md; 0: none)"));
         b.bending = b.bending_modulus > 0;
         r.finish();
         if (KeyCatalogue::instance().documenting) continue;

@@ -100,8 +100,10 @@ struct BodyConfig {
     /// How Gs outside the band core is rebuilt after each step: "normal" (closest-point
     /// extension of the core's Gs along the normals, P Gs P, I beyond the band) or "layers"
     /// (the mean of known neighbours marched out from t <= phi <= 1 - t, extension_threshold).
-    StrainExtension strain_extension = StrainExtension::Layers;
+    StrainExtension strain_extension = StrainExtension::Normal;
     real strain_core = 1.0; ///< cells: half-thickness of the core (strain_extension = normal)
+    /// Pseudo-steps per time step of the conservative restoration of phi's tanh profile.
+    int profile_iterations = 2;
 
     /// A moving membrane whose Gs is carried by the surface velocity.
     bool carried_by_surface_velocity() const {

@@ -333,10 +333,10 @@ Config read_config(toml::table& root, const std::filesystem::path& case_dir) {
         c.stability.max_velocity = r.number("max_velocity", 1e6, Range::positive(), "m/s",
                                             "speed above which the run stops as a blow-up");
         c.stability.max_tensor_trace = r.number(
-            "max_tensor_trace", 100.0, Range{3.0, std::numeric_limits<real>::infinity(), true}, "-",
-            "trace of a body's tensor (B of a solid, Gs of a membrane; 3 when "
-            "unstrained) above which the run stops as unstable (checked at each "
-            "diagnostics step)");
+            "max_tensor_trace", 100.0, Range{2.0, std::numeric_limits<real>::infinity(), true}, "-",
+            "trace of a body's tensor (B of a solid, 3 when unstrained; Gs of a membrane "
+            "over its band, 2 when unstrained) above which the run stops as unstable "
+            "(checked at each diagnostics step)");
         r.finish();
     }
     c.bodies = read_bodies(top, c.grid, periodic_directions(c.boundaries));

@@ -42,6 +42,9 @@ MembraneBody::MembraneBody(const BodyConfig& b, const BodyContext& ctx) : BodyPh
         extension_ = std::make_unique<TensorExtension>(ctx.halos, b.extension_threshold, layers,
                                                        /*two_sided=*/true);
     }
+    if (b.profile_iterations > 0)
+        reinit_ = std::make_unique<ConservativeReinit>(ctx.halos, b.smoothing_width,
+                                                       b.profile_iterations);
     const real membrane = membrane_time_step_limit(run.grid, run.fluid.density, run.fluid.viscosity,
                                                    law_->stiffest_modulus());
     if (membrane > 0) limits_.push_back({"membrane", membrane});
@@ -127,6 +130,13 @@ void MembraneBody::carry_tensor(Body& body, const BodyStep& s) {
                                                    cfg_.surface_velocity_reach);
         });
     s.timers.time("bodies_tensor", [&] { transport_->advance(body, *carrier, s.dt); });
+}
+
+real MembraneBody::restore_profile(Body& body, const BodyStep& s) {
+    if (!reinit_) return 0;
+    real clipped = 0;
+    s.timers.time("bodies_reinit", [&] { clipped = reinit_->apply(body).clipped_volume; });
+    return clipped;
 }
 
 void MembraneBody::extend_tensor(Body& body, const BodyStep& s) {

@@ -1,13 +1,15 @@
 // A membrane as a body (bodies/body_physics.hpp): a smoothed band carrying the surface
 // tensor Gs (and kappa_R with bending), the force of its law |grad phi| f (membrane_force.hpp),
 // Gs carried by the surface's velocity (surface_velocity.hpp) or the local one, and rebuilt
-// off the band's core after each step (normal_extension.hpp or the layered TensorExtension).
+// off the band's core after each step (normal_extension.hpp or the layered TensorExtension),
+// phi's tanh profile restored after each VOF step (interface/conservative_reinit.hpp).
 // Its time-step limits are "membrane" (in-plane, membrane_time_step_limit) and, with
 // bending, "bending" (bending_time_step_limit).
 #pragma once
 
 #include "bodies/body_physics.hpp"
 #include "bodies/transport.hpp"
+#include "interface/conservative_reinit.hpp"
 #include "membrane/membrane_force.hpp"
 #include "membrane/membrane_law.hpp"
 #include "membrane/normal_extension.hpp"
@@ -41,6 +43,7 @@ class MembraneBody final : public BodyPhysics {
 
   protected:
     void carry_tensor(Body& body, const BodyStep& step) override;
+    real restore_profile(Body& body, const BodyStep& step) override;
     void extend_tensor(Body& body, const BodyStep& step) override;
 
   private:
@@ -49,6 +52,7 @@ class MembraneBody final : public BodyPhysics {
     std::unique_ptr<BodyTransport> transport_;
     std::unique_ptr<TensorExtension> extension_;        ///< strain_extension = layers
     std::unique_ptr<NormalExtension> normal_extension_; ///< strain_extension = normal
+    std::unique_ptr<ConservativeReinit> reinit_;        ///< profile_iterations > 0
 };
 
 } // namespace efsi

@@ -30,7 +30,8 @@ NormalExtension::NormalExtension(const HaloFiller& halos, const std::string& bod
             throw InputError(fmt::format(
                 "body '{}': strain_extension = \"normal\" needs every rank's block to be at "
                 "least {} cells wide, but one is {} cells wide along {} ({} ranks along it); "
-                "run on fewer ranks or set body.strain_extension = \"layers\"",
+                "run on fewer ranks, lay them out along wider directions (parallel.ranks) or set "
+                "body.strain_extension = \"layers\"",
                 body_name, wide_halo_, thinnest, "xyz"[d], dec.ranks_per_dim()[d]));
     }
 }

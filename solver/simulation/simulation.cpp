@@ -44,20 +44,22 @@ void drop_rows_after(const fs::path& file, double t) {
     std::ofstream(file) << kept;
 }
 
-/// A possible cause worth naming when a run with membranes blows up: Gs carried by the
-/// surface velocity over a wide reach is unstable for stiff membranes (docs/method.md, "The
-/// reach of the surface velocity, and stiff membranes"). Empty when no body qualifies.
+/// A possible cause worth naming when a run with membranes blows up: with the layered
+/// extension of Gs (strain_extension = "layers"), Gs carried by the surface velocity over a
+/// wide reach is unstable for stiff membranes (docs/method.md, "The reach of the surface
+/// velocity, and stiff membranes"). Empty when no body qualifies.
 std::string membrane_instability_hint(const Config& cfg) {
     std::string names;
     for (const BodyConfig& b : cfg.bodies)
-        if (b.carried_by_surface_velocity() &&
+        if (b.carried_by_surface_velocity() && b.strain_extension == StrainExtension::Layers &&
             b.surface_velocity_reach > SurfaceVelocity::stiff_membrane_reach)
             names += (names.empty() ? "'" : ", '") + b.name + "'";
     if (names.empty()) return "";
     const real r = SurfaceVelocity::stiff_membrane_reach;
-    return fmt::format(". Membranes that carry Gs with the surface velocity over more than "
-                       "{} cells ({}) are unstable when stiff, whatever dt; if yours is stiff, "
-                       "set body.surface_velocity_reach = {} (docs/method.md)",
+    return fmt::format(". Membranes with strain_extension = \"layers\" that carry Gs with the "
+                       "surface velocity over more than {} cells ({}) are unstable when stiff, "
+                       "whatever dt; if yours is stiff, set body.surface_velocity_reach = {} "
+                       "or use the default strain_extension = \"normal\" (docs/method.md)",
                        r, names, r);
 }
 

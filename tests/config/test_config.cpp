@@ -220,9 +220,10 @@ TEST(Config, OutOfRangeValueIsNamed) {
                     case_from(base_case, {{"time.viscous", "\"implicit\""}});
                 }),
                 HasSubstr("time.viscous"));
-    // An unstrained tensor has trace 3: a bound at or below it would stop every run.
+    // An unstrained membrane's band has trace 2 (a solid's B 3): a bound at or below 2 would
+    // stop every run.
     EXPECT_THAT(input_error_of([] {
-                    case_from(base_case, {{"stability.max_tensor_trace", "3"}});
+                    case_from(base_case, {{"stability.max_tensor_trace", "2"}});
                 }),
                 HasSubstr("stability.max_tensor_trace"));
 }

@@ -30,16 +30,22 @@ out = os.path.join(args.output, "thin_blocks")
 proc = run(args, "body_translation", out, ranks=4, expect=None,
            sets=["grid.cells=[32,16,1]", "grid.length=[2.0,1.0,0.0625]", "parallel.ranks=[1,4,1]"])
 check(proc.returncode == 2, f"thin blocks exit {proc.returncode}")
-check("strain_velocity" in proc.stderr and "8 cells wide" in proc.stderr,
+check("strain_extension" in proc.stderr and "10 cells wide" in proc.stderr,
       f"message: {proc.stderr.strip()[:200]}")
 check(not os.path.exists(out), "nothing was written (checked before the run)")
 
-# A shorter reach of the surface velocity (body key surface_velocity_reach) needs fewer
-# halo layers, ceil(reach) + 3: 5 for 1.5, still more than 4-cell blocks.
+# With the layered extension, the surface velocity's halo decides: ceil(reach) + 3 layers,
+# 8 for the default reach and 5 for 1.5, still more than 4-cell blocks.
+out = os.path.join(args.output, "thin_blocks_layers")
+proc = run(args, "body_translation", out, ranks=4, expect=None,
+           sets=["grid.cells=[32,16,1]", "grid.length=[2.0,1.0,0.0625]", "parallel.ranks=[1,4,1]",
+                 "body[2].strain_extension=\"layers\""])
+check(proc.returncode == 2 and "strain_velocity" in proc.stderr and "8 cells wide" in proc.stderr,
+      f"layers: exit {proc.returncode}, message: {proc.stderr.strip()[:200]}")
 out = os.path.join(args.output, "thin_blocks_short_reach")
 proc = run(args, "body_translation", out, ranks=4, expect=None,
            sets=["grid.cells=[32,16,1]", "grid.length=[2.0,1.0,0.0625]", "parallel.ranks=[1,4,1]",
-                 "body[2].surface_velocity_reach=1.5"])
+                 "body[2].surface_velocity_reach=1.5", "body[2].strain_extension=\"layers\""])
 check(proc.returncode == 2 and "5 cells wide" in proc.stderr,
       f"short reach: exit {proc.returncode}, message: {proc.stderr.strip()[:200]}")
 

@@ -55,9 +55,14 @@ BOUNDS = [
 ]
 
 # (dimension, cells per diameter, Ca list) per tier.
+# The ci tier ran the 2D capsule at d/8 until session 14; with the normal extension and the
+# profile restoration (the default since then) its D(1) at Ca 0.2 is 13 % below the boundary
+# integral at d/8 (8 % before; at d/16 the two formulations agree to 0.3 %: docs/method.md,
+# "Membranes that last"), which breaks the 10 % bound. The ci smoke run is therefore d/16,
+# and the d/8 run moved to the quick tier, where that bound reports the miss.
 TIERS = {
-    "ci": [(2, 8, [0.2])],
-    "quick": [(2, 16, [0.05, 0.2]), (3, 16, [0.2])],
+    "ci": [(2, 16, [0.2])],
+    "quick": [(2, 8, [0.2]), (2, 16, [0.05, 0.2]), (3, 16, [0.2])],
     "full": [(2, 16, [0.05, 0.2]), (2, 32, [0.05, 0.2]),
              (3, 16, [0.0125, 0.025, 0.05, 0.1, 0.2]), (3, 32, [0.0125, 0.025, 0.05, 0.1, 0.2])],
 }

@@ -33,9 +33,12 @@ BOUNDS = [
 ]
 
 # Per tier: cells per direction per rank-1 problem (flow, capsule), steps, rank counts.
+# The capsule's membrane (normal extension of Gs, the default) needs every rank's block to
+# be at least 10 cells wide, so its box is 24 (ci) and 48 (quick) cells: 12 per rank at
+# the most ranks of the tier.
 TIERS = {
-    "ci": {"flow_n": 16, "capsule_n": 16, "steps": 3, "ranks": [1, 2]},
-    "quick": {"flow_n": 64, "capsule_n": 32, "steps": 10, "ranks": [1, 2, 4]},
+    "ci": {"flow_n": 16, "capsule_n": 24, "steps": 3, "ranks": [1, 2]},
+    "quick": {"flow_n": 64, "capsule_n": 48, "steps": 10, "ranks": [1, 2, 4]},
     "full": {"flow_n": 128, "capsule_n": 64, "steps": 20, "ranks": [1, 2, 4]},
 }
 COMMON = {"output.fields": "false", "output.progress_every": "100000000",

@@ -22,7 +22,9 @@ ENV = dict(os.environ, OMPI_ALLOW_RUN_AS_ROOT="1", OMPI_ALLOW_RUN_AS_ROOT_CONFIR
 
 RUNS = {
     # 2D, three bodies: phi_<name>, <name>_B_* (solid), <name>_Gs_* (membrane)
+    # (split along x: the membrane's normal extension needs blocks 10 cells wide)
     "bodies_2d": ("body_translation", 2, ["grid.cells=[32,16,1]", "grid.length=[2.0,1.0,0.0625]",
+                                          "parallel.ranks=[2,1,1]",
                                           "time.max_steps=3", "output.fields_interval=0.01"],
                   (32, 16, 1)),
     "box_3d": ("lid_cavity", 1, ["grid.cells=[6,5,4]", "grid.length=[1.2,1.0,0.8]",
