@@ -340,26 +340,25 @@ std::vector<BodyDiagnostics> BodySystem::measure() const {
         const SymmetricTensorField& T = b.tensor();
         // A membrane's Gs means the membrane's stretch only in its band (beyond it is I or
         // an extension): its largest trace is taken where the force is, 1e-5 < phi < 1 - 1e-5
-        // and psi = atanh(1 - 2 phi) (in cells of eps) a distance, |grad psi| >= 1/2
+        // and psi (interface/geometry.hpp, profile_distance) a distance, |grad psi| >= 1/2
         // (elsewhere the normal extension resets Gs to I).
         const bool membrane = b.kind() == BodyKind::Membrane;
         const real floor = membrane ? MembraneForceSettings{}.band_cutoff : 0.0;
         const real eps_cells = cfg_.bodies[i].smoothing_width;
-        auto psi = [&](const Int3& q) {
-            return std::atanh(std::clamp(1 - 2 * b.phi()(q), -1 + 1e-15, 1 - 1e-15));
-        };
         if (!b.patch().empty() && !T.comp.empty())
             for_each_in(b.phi().owned(), [&](int a, int bb, int c) {
                 const real f = b.phi()(a, bb, c);
                 if (f <= floor || f >= 1 - floor) return;
                 const Int3 p{a, bb, c};
                 if (membrane) {
+                    // |grad psi| from central differences, psi in cells (eps = eps_cells).
                     real g2 = 0;
                     for (int dir = 0; dir < g.dim; ++dir) {
                         Int3 below = p, above = p;
                         --below[dir];
                         ++above[dir];
-                        const real gd = 0.5 * eps_cells * (psi(above) - psi(below));
+                        const real gd = 0.5 * (profile_distance(b.phi()(above), eps_cells) -
+                                               profile_distance(b.phi()(below), eps_cells));
                         g2 += gd * gd;
                     }
                     if (g2 < 0.25) return;

@@ -1,5 +1,6 @@
 #include "interface/conservative_reinit.hpp"
 
+#include "interface/geometry.hpp"
 #include "operators/flow_operators.hpp"
 
 #include <algorithm>
@@ -35,12 +36,10 @@ ReinitStats ConservativeReinit::apply(Body& body) {
         stored.hi[d] += 2;
     }
     auto normal = [&](const Int3& p) {
-        Real3 gp{0, 0, 0};
+        Real3 gp = central_gradient(psi_a_, g, p);
         real g2 = 0;
-        for (int d = 0; d < dim; ++d) {
-            gp[d] = psi_a_(shifted(p, d, 1)) - psi_a_(shifted(p, d, -1));
+        for (int d = 0; d < dim; ++d)
             g2 += gp[d] * gp[d];
-        }
         if (g2 > 0)
             for (int d = 0; d < dim; ++d)
                 gp[d] /= std::sqrt(g2);
@@ -49,8 +48,7 @@ ReinitStats ConservativeReinit::apply(Body& body) {
     for (int it = 0; it < iterations_; ++it) {
         halos_.fill(phi, body.patch());
         for_each_in(stored, [&](int i, int j, int k) {
-            const real v = std::clamp(2 * phi(i, j, k) - 1, -1 + 1e-15, 1 - 1e-15);
-            psi_a_(i, j, k) = 2 * e * std::atanh(v);
+            psi_a_(i, j, k) = -profile_distance(phi(i, j, k), 2 * e);
         });
         for_each_in(phi.owned(), [&](int i, int j, int k) {
             const Int3 p{i, j, k};

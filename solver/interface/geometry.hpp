@@ -26,6 +26,8 @@
 #include "grid/box.hpp"
 #include "grid/field.hpp"
 
+#include <algorithm>
+#include <cmath>
 #include <string>
 
 namespace efsi {
@@ -33,6 +35,25 @@ namespace efsi {
 enum class GradientStencil { Central, Youngs, Isotropic, Distance };
 
 GradientStencil gradient_stencil_from_string(const std::string& s);
+
+/// Signed distance to the surface (positive outside) read off a smoothed phi = (1 -
+/// tanh(psi / eps)) / 2: psi = eps atanh(1 - 2 phi), the argument clamped to 1 - 1e-15 so
+/// that empty and full cells give a finite psi (~17.6 eps).
+inline real profile_distance(real phi, real eps) {
+    return eps * std::atanh(std::clamp(1 - 2 * phi, -1 + 1e-15, 1 - 1e-15));
+}
+
+/// Central-difference gradient of a cell field at p (needs one halo layer).
+inline Real3 central_gradient(const Field& f, const GlobalGrid& g, const Int3& p) {
+    Real3 gp{0, 0, 0};
+    for (int d = 0; d < g.dim; ++d) {
+        Int3 lo = p, hi = p;
+        --lo[d];
+        ++hi[d];
+        gp[d] = (f(hi) - f(lo)) / (2 * g.dx(d));
+    }
+    return gp;
+}
 
 /// Gradient of a cell field at cell p with the chosen transverse weighting.
 /// For `Distance`, `eps` is the smoothing width of phi's tanh profile.

@@ -2,6 +2,7 @@
 
 #include "bodies/symmetric_tensor.hpp"
 #include "core/error.hpp"
+#include "interface/geometry.hpp"
 #include "operators/flow_operators.hpp"
 
 #include <fmt/format.h>
@@ -57,8 +58,7 @@ void NormalExtension::apply(Body& body) {
                                                phi.cells(), dim, wide_halo_));
         }
         for_each_in(phi.owned(), [&](int i, int j, int k) {
-            const real v = std::clamp(1 - 2 * phi(i, j, k), -1 + 1e-15, 1 - 1e-15);
-            psi_(i, j, k) = eps * std::atanh(v);
+            psi_(i, j, k) = profile_distance(phi(i, j, k), eps);
             for (int s = 0; s < ncomp; ++s)
                 src_[s](i, j, k) = G.comp[s](i, j, k);
         });
@@ -98,12 +98,10 @@ void NormalExtension::apply(Body& body) {
     for_each_in(phi.owned(), [&](int i, int j, int k) {
         const Int3 p{i, j, k};
         const real s = psi_(p);
-        Real3 gp{0, 0, 0};
+        const Real3 gp = central_gradient(psi_, g, p);
         real g2 = 0;
-        for (int d = 0; d < dim; ++d) {
-            gp[d] = (psi_(shifted(p, d, 1)) - psi_(shifted(p, d, -1))) / (2 * g.dx(d));
+        for (int d = 0; d < dim; ++d)
             g2 += gp[d] * gp[d];
-        }
         std::array<std::array<real, 3>, 3> T{};
         if (std::abs(s) > reach || g2 < 0.25) {
             for (int s2 = 0; s2 < ncomp; ++s2)

@@ -1,6 +1,7 @@
 #include "membrane/surface_velocity.hpp"
 
 #include "core/error.hpp"
+#include "interface/geometry.hpp"
 #include "operators/flow_operators.hpp"
 
 #include <fmt/format.h>
@@ -91,18 +92,11 @@ const VelocityField& SurfaceVelocity::compute(const Body& body, real eps_cells, 
     const real eps = eps_cells * h;
     if (psi_.data().empty() || psi_.begin() != phi.begin() || psi_.cells() != phi.cells())
         psi_ = Field::on_patch("psi", Location::Cell, phi.begin(), phi.cells(), dim);
-    for_each_in(phi.owned(), [&](int i, int j, int k) {
-        const real v = std::clamp(1 - 2 * phi(i, j, k), -1 + 1e-15, 1 - 1e-15);
-        psi_(i, j, k) = eps * std::atanh(v);
-    });
+    for_each_in(phi.owned(),
+                [&](int i, int j, int k) { psi_(i, j, k) = profile_distance(phi(i, j, k), eps); });
     halos_.fill(psi_, body.patch());
     // Gradient of psi at a cell (central differences; one cell inside the stored box).
-    auto grad_psi = [&](const Int3& p) {
-        Real3 gp{0, 0, 0};
-        for (int d = 0; d < dim; ++d)
-            gp[d] = (psi_(shifted(p, d, 1)) - psi_(shifted(p, d, -1))) / (2 * g.dx(d));
-        return gp;
-    };
+    auto grad_psi = [&](const Int3& p) { return central_gradient(psi_, g, p); };
     // Component c and its gradient at a point x, from the staggered grid of c in `wide_`.
     auto interpolate = [&](int c, const Real3& x) {
         Int3 base{0, 0, 0};
