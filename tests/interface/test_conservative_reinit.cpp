@@ -4,7 +4,8 @@
 //    (|grad psi| -> 1 across the band, psi = eps atanh(1 - 2 phi));
 //  - keep the volume sum phi dV to round-off;
 //  - leave the exact profile of a sphere nearly unchanged (its discrete steady state is
-//    the tanh profile up to the curvature's O((eps / R)^2));
+//    the tanh profile up to the curvature's O((h / R)^4): phi moves by < 2e-4 at R = 16 h,
+//    where the second-order face form moved it by 9e-4);
 //  - agree on 1 and 2 ranks.
 #include "bodies/body.hpp"
 #include "boundary/boundary.hpp"
@@ -120,7 +121,7 @@ TEST(ConservativeReinit, LeavesTheExactProfileOfASphereNearlyUnchanged) {
         const Outcome o = run(dim, 1.0, 60);
         std::printf("dim %d exact profile: max |phi change| %.3g, max ||grad psi| - 1| %.3g\n", dim,
                     o.after.max_change, o.after.gradient_error);
-        EXPECT_LT(o.after.max_change, 0.003) << "dim " << dim;
+        EXPECT_LT(o.after.max_change, 2e-4) << "dim " << dim;
         EXPECT_LT(o.after.gradient_error, 0.01) << "dim " << dim;
     }
 }
