@@ -75,6 +75,15 @@ std::vector<double> machine_load() {
 
 Simulation::Simulation(const Config& config, const RunOptions& options, MPI_Comm world)
     : cfg_(config), opt_(options) {
+    // The receptors' positions and bonds are not in the checkpoint: a restart would place
+    // the receptors afresh on the initial shapes and drop every bond. Refused before
+    // anything is allocated or written.
+    if (!opt_.restart_file.empty() && cfg_.adhesion.enabled)
+        throw InputError(fmt::format(
+            "--restart {}: the case has an [adhesion] table, whose receptors and bonds are not "
+            "checkpointed; a restart would lose every bond. Run it from the start (or remove "
+            "[adhesion] to continue the flow and bodies alone)",
+            opt_.restart_file.string()));
     // The decomposition checks the rank count against the grid before anything is allocated.
     dec_ = std::make_unique<Decomposition>(world, cfg_.grid, periodic_directions(cfg_.boundaries),
                                            cfg_.ranks);
@@ -122,9 +131,14 @@ Simulation::Simulation(const Config& config, const RunOptions& options, MPI_Comm
         body_limits_ = bodies_->time_step_limits();
         if (bodies_->viscosity_varies()) state_->viscosity_varies = true;
         u_mid_ = std::make_unique<VelocityField>("body_velocity", dec_->block(), dec_->dim());
-        if (bodies_->adds_force())
-            force_ = std::make_unique<VelocityField>("body_force", dec_->block(), dec_->dim());
     }
+    // Adhesion (docs/method.md, "Coupling to the flow"): only with an [adhesion] table, whose
+    // receptors sit on bodies, so bodies_ exists then.
+    if (cfg_.adhesion.enabled)
+        adhesion_ = std::make_unique<adhesion::Coupling>(cfg_.adhesion, cfg_.bodies, *dec_,
+                                                         cfg_.fluid.density, cfg_.fluid.viscosity);
+    if (bodies_ && (bodies_->adds_force() || adhesion_))
+        force_ = std::make_unique<VelocityField>("body_force", dec_->block(), dec_->dim());
     halos_->fill(state_->p);
     halos_->fill(state_->mu);
     halos_->fill(state_->u);
@@ -146,6 +160,9 @@ Simulation::Simulation(const Config& config, const RunOptions& options, MPI_Comm
                     << "step,time,body,volume,centroid_x,centroid_y,centroid_z,phi_min,phi_max,"
                        "clipped_volume,patch_cells,bytes,area,taylor_deformation,inclination_over_"
                        "pi,tensor_trace_max\n";
+            if (adhesion_)
+                std::ofstream(opt_.output_dir / "adhesion.csv")
+                    << AdhesionRecord::csv_header() << "\n";
         }
     }
     dec_->barrier();
@@ -154,10 +171,24 @@ Simulation::Simulation(const Config& config, const RunOptions& options, MPI_Comm
 
 Simulation::~Simulation() = default;
 
-void Simulation::apply_body_stresses() {
+void Simulation::apply_body_stresses(real dt) {
     if (!bodies_) return;
     if (state_->viscosity_varies) bodies_->update_viscosity(state_->mu);
-    if (force_) bodies_->add_forces(*force_);
+    if (!force_) return;
+    if (bodies_->adds_force())
+        bodies_->add_forces(*force_); // zeroes the field first
+    else
+        for (int c = 0; c < force_->dim; ++c)
+            (*force_)[c].fill(0);
+    if (!adhesion_) return;
+    // The bonds' spring forces, from the positions at the start of the step: +F at the
+    // receptor, -F at the ligand (docs/method.md, "Bond force to the continuum").
+    try {
+        adhesion_->add_bond_forces(*force_, dt);
+    } catch (const RunError& e) {
+        throw RunError(unstable_message(e.what()));
+    }
+    adhesion_record_.after_forces(*adhesion_);
 }
 
 void Simulation::advance_bodies(real dt) {
@@ -174,9 +205,27 @@ void Simulation::advance_bodies(real dt) {
     timers_.time("halo", [&] { halos_->fill(*u_mid_); });
     try {
         bodies_->advance(*u_mid_, dt, s.step, timers_);
+        // The bonds break and form (states at the start of the step, draws keyed by the
+        // step's index at its start), then the receptors move with the bodies' velocity.
+        if (adhesion_)
+            timers_.time("adhesion", [&] { adhesion_->advance(*u_mid_, dt, s.step - 1); });
     } catch (const RunError& e) {
         throw RunError(unstable_message(e.what()));
     }
+    if (adhesion_) adhesion_record_.after_advance(*adhesion_, s.time);
+}
+
+std::vector<TimeStepLimit> Simulation::time_step_limits() {
+    if (!adhesion_) return body_limits_;
+    std::vector<TimeStepLimit> out = body_limits_;
+    // The explicit bond springs (docs/method.md, "Time-step limits"): infinite without bonds,
+    // so it is named only while bonds are held. choose_time_step multiplies it by time.cfl.
+    const real dt = adhesion_->stable_time_step();
+    if (std::isfinite(dt)) {
+        out.push_back({"adhesion", dt});
+        adhesion_record_.note_limit(dt);
+    }
+    return out;
 }
 
 void Simulation::build_pinning() {
@@ -260,6 +309,10 @@ void Simulation::write_outputs_if_due(bool final_step) {
                 out.close();
                 if (!out) failed = 1;
             }
+            if (adhesion_ &&
+                !adhesion_record_.append_row(opt_.output_dir / "adhesion.csv", *adhesion_, s.step,
+                                             s.time, dec_->rank() == 0))
+                failed = 3;
             if (bodies_) {
                 last_bodies_ = bodies_->measure();
                 if (dec_->rank() == 0) {
@@ -282,7 +335,10 @@ void Simulation::write_outputs_if_due(bool final_step) {
                 std::error_code ec;
                 throw IoError(fmt::format(
                     "appending to {} at step {} failed (disk full?); {}",
-                    (opt_.output_dir / (failed == 1 ? "diagnostics.csv" : "bodies.csv")).string(),
+                    (opt_.output_dir / (failed == 1   ? "diagnostics.csv"
+                                        : failed == 2 ? "bodies.csv"
+                                                      : "adhesion.csv"))
+                        .string(),
                     s.step,
                     fs::exists(cp, ec) ? fmt::format("the last good checkpoint is {}", cp.string())
                                        : std::string("there is no checkpoint of this run")));
@@ -354,10 +410,10 @@ int Simulation::run() {
     try {
         if (s.step == 0) write_outputs_if_due(false);
         while (!finished()) {
-            TimeStepChoice choice = choose_time_step(cfg_, *dec_, s, body_limits_);
+            TimeStepChoice choice = choose_time_step(cfg_, *dec_, s, time_step_limits());
             check_stability(choice);
             land_on_snapshot(choice);
-            timers_.time("body_stress", [&] { apply_body_stresses(); });
+            timers_.time("body_stress", [&] { apply_body_stresses(choice.dt); });
             if (bodies_) *u_mid_ = s.u;
             const StepReport r = stepper_->step(s, choice.dt, timers_, force_.get());
             advance_bodies(choice.dt);
@@ -365,7 +421,7 @@ int Simulation::run() {
             write_outputs_if_due(finished());
             log_progress(choice, r);
         }
-        check_stability(choose_time_step(cfg_, *dec_, s, body_limits_));
+        check_stability(choose_time_step(cfg_, *dec_, s, time_step_limits()));
         if (s.time < cfg_.time.end_time * (1 - 1e-12)) {
             status = "max_steps";
             message = fmt::format("stopped at time.max_steps = {} at t = {:.6g} s of "
@@ -400,6 +456,11 @@ void Simulation::log_start() {
             limits += fmt::format("{}{} {:.3e} s", limits.empty() ? "" : ", ", l.name, l.dt);
         log("body time-step limits: " + limits);
     }
+    if (adhesion_)
+        log(fmt::format("adhesion: {} receptors on {} bodies, {} ligand sites; time-step limit "
+                        "'adhesion' (the bond springs) applies while bonds are held",
+                        adhesion_->receptors().size(), adhesion_->bodies().size(),
+                        adhesion_->ligands().size()));
     load_before_ = machine_load();
 }
 
@@ -489,6 +550,9 @@ void Simulation::write_summary(double wall_seconds, const std::string& status,
     nlohmann::json limits = nlohmann::json::object();
     for (const TimeStepLimit& l : body_limits_)
         limits[l.name] = l.dt;
+    // The adhesion's limit changes with the bonds: its smallest value over the run.
+    if (adhesion_ && std::isfinite(adhesion_record_.smallest_limit()))
+        limits["adhesion"] = adhesion_record_.smallest_limit();
     j["time_step_limits"] = limits;
     j["limited_by"] = last_limited_by_;
     const Diagnostics& d = last_;
@@ -516,6 +580,7 @@ void Simulation::write_summary(double wall_seconds, const std::string& status,
                           {"taylor_deformation", b.taylor_deformation},
                           {"inclination_over_pi", b.inclination_over_pi}});
     j["bodies"] = bodies;
+    if (adhesion_) j["adhesion"] = adhesion_record_.summary(*adhesion_);
     // Written aside and renamed: a failed write never leaves a truncated summary.
     const fs::path file = opt_.output_dir / "summary.json", tmp = file.string() + ".tmp";
     {

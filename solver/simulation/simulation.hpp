@@ -7,6 +7,7 @@
 #include "config/config.hpp"
 #include "io/checkpoint.hpp"
 #include "parallel/decomposition.hpp"
+#include "simulation/adhesion_record.hpp"
 #include "simulation/diagnostics.hpp"
 #include "time/flow_state.hpp"
 #include "time/smac.hpp"
@@ -45,10 +46,15 @@ class Simulation {
     /// Shorten an adaptive step to land on the next field snapshot time.
     void land_on_snapshot(TimeStepChoice& choice) const;
     void check_stability(const TimeStepChoice& choice);
-    /// The bodies' stresses at the current state: mixture viscosity and force.
-    void apply_body_stresses();
-    /// Carry the bodies with (v^n + v^{n+1}) / 2 (u_mid_ holds v^n on entry).
+    /// The bodies' stresses at the current state: mixture viscosity and force (with the
+    /// bond forces of adhesion, which depend on dt through their stability check).
+    void apply_body_stresses(real dt);
+    /// Carry the bodies with (v^n + v^{n+1}) / 2 (u_mid_ holds v^n on entry), then the
+    /// adhesion's kinetics and receptors with the same velocity.
     void advance_bodies(real dt);
+    /// The named explicit limits of this step: the bodies' (fixed) and the adhesion's (set
+    /// by the bonds now held).
+    std::vector<TimeStepLimit> time_step_limits();
     void record_step(const TimeStepChoice& choice, const StepReport& r);
     void write_outputs_if_due(bool final_step);
     void log_progress(const TimeStepChoice& choice, const StepReport& r) const;
@@ -76,6 +82,9 @@ class Simulation {
     std::vector<BodyDiagnostics> last_bodies_;
     std::vector<TimeStepLimit> body_limits_; ///< the bodies' named explicit limits
     std::unique_ptr<VelocityField> force_;   ///< body force density; only if a body adds one
+    /// Platelet adhesion (receptors, ligands, bonds); null without [adhesion].
+    std::unique_ptr<adhesion::Coupling> adhesion_;
+    AdhesionRecord adhesion_record_;         ///< adhesion.csv and summary.json (with adhesion_)
     std::unique_ptr<VelocityField> u_mid_;   ///< (v^n + v^{n+1}) / 2 that carries the bodies
     std::unique_ptr<VelocityField> pinning_; ///< K = dt chi / tau; only with fixed walls
     StageTimers timers_;

@@ -5,7 +5,8 @@
 //   body force  dt_f = sqrt(dx_min rho / |f|)
 //   dt = cfl * min(dt_a, dt_v, dt_f), capped by time.dt_max and by the end time; with
 //   bodies, also by a face Courant number of 0.45 (the split VOF advection needs < 1/2).
-// The bodies add their own named limits (elastic, membrane, bending: bodies/body_physics.hpp).
+// The bodies add their own named limits (elastic, membrane, bending: bodies/body_physics.hpp),
+// and platelet adhesion its bond springs' (adhesion, while bonds are held: adhesion/coupling.hpp).
 #pragma once
 
 #include "config/config.hpp"
