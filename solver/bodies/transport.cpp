@@ -59,25 +59,27 @@ real advection_rate_at(const Field& s, const VelocityField& u, const GlobalGrid&
 
 namespace {
 
-/// van_leer() without a branch: both sides computed, the division guarded, one selected
-/// (the same value, so the loops that call it vectorise).
+/// van_leer() without a branch: the inputs of the division are selected (0 / 1 where the
+/// limiter is off), never its result, so every operation runs in every lane and the loops
+/// that call it vectorise (an operation under a condition that may trap is not speculated).
 inline real van_leer_select(real a, real b) {
     const bool limited = a * b > 0;
+    const real num = limited ? 2 * a * b : real(0);
     const real den = limited ? a + b : real(1);
-    const real v = 2 * a * b / den;
-    return limited ? v : real(0);
+    return num / den;
 }
 
 /// face_value() on a raw row: the low face (stride st) of the point s[0], upwinded by w; the
-/// upwind cell's value and differences are selected first, so one limiter serves both sides.
+/// upwind cell's value and differences are selected first, so one limiter serves both sides
+/// (c - x is c + (-x) exactly, so the sign is a factor).
 inline real face_value_row(const real* s, std::ptrdiff_t st, real w) {
     const real sm2 = s[-2 * st], sm1 = s[-st], s0 = s[0], sp1 = s[st];
+    const real d1 = sm1 - sm2, d2 = s0 - sm1, d3 = sp1 - s0;
     const bool up = w >= 0;
     const real c = up ? sm1 : s0;
-    const real a = up ? sm1 - sm2 : s0 - sm1;
-    const real b = up ? s0 - sm1 : sp1 - s0;
-    const real half = 0.5 * van_leer_select(a, b);
-    return up ? c + half : c - half;
+    const real a = up ? d1 : d2;
+    const real b = up ? d2 : d3;
+    return c + (up ? real(0.5) : real(-0.5)) * van_leer_select(a, b);
 }
 
 /// Rates of the tensor's stored components (and kappa) on `box`, row by row: for each row
