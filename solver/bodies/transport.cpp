@@ -82,6 +82,20 @@ inline real face_value_row(const real* s, std::ptrdiff_t st, real w) {
     return c + (up ? real(0.5) : real(-0.5)) * van_leer_select(a, b);
 }
 
+/// The y or z term of advection_rate_at on a row: rate -= (flux_div - s div_d u) / h_d, the
+/// low faces' fluxes taken from `flo`, which receives the high faces' for the next row.
+inline void transverse_term(const real* __restrict f, const real* __restrict wd, std::ptrdiff_t sud,
+                            std::ptrdiff_t spd, real id, int n0, real* __restrict flo,
+                            real* __restrict rate) {
+    for (int i = 0; i < n0; ++i) {
+        const real wl = wd[i], wh = wd[i + sud];
+        const real fhi = wh * face_value_row(f + i + spd, spd, wh);
+        const real flux_div = fhi - flo[i];
+        rate[i] -= (flux_div - f[i] * (wh - wl)) * id;
+        flo[i] = fhi;
+    }
+}
+
 /// Rates of the tensor's stored components (and kappa) on `box`, row by row: for each row
 /// (j, k) and field s (the components in slot order, kappa last) calls
 /// finish(s, offset, rate), `offset` the index of the row's first point in the patch fields
@@ -125,6 +139,12 @@ void rate_rows(const Box& box, const SymmetricTensorField& t, const Field* kappa
             Lrow[a][c] = buf.data() + std::size_t(a * Dim + c) * n0;
     real* __restrict rate = buf.data() + std::size_t(Dim * Dim) * n0;
     real* __restrict fx = rate + n0;
+    // The flux through the low y-face of a row is the high one of the row before, and the
+    // low z-face's that of the plane before: kept per field (fy: one row, fz: one plane),
+    // computed afresh on the box's first row and plane, so every face is computed once.
+    const int n1 = box.hi[1] - box.lo[1];
+    std::vector<real> fy_buf(std::size_t(nfields) * n0);
+    std::vector<real> fz_buf(Dim > 2 ? std::size_t(nfields) * n0 * n1 : 0);
     const real* ubase[3] = {};
     for (int d = 0; d < Dim; ++d)
         ubase[d] = u[d].data().data();
@@ -169,12 +189,13 @@ void rate_rows(const Box& box, const SymmetricTensorField& t, const Field* kappa
                     const real* __restrict wd = ubase[d] + ru;
                     const std::ptrdiff_t sud = su[d], spd = sp[d];
                     const real id = inv[d];
-                    for (int i = 0; i < n0; ++i) {
-                        const real wl = wd[i], wh = wd[i + sud];
-                        const real flux_div = wh * face_value_row(f + i + spd, spd, wh) -
-                                              wl * face_value_row(f + i, spd, wl);
-                        rate[i] -= (flux_div - f[i] * (wh - wl)) * id;
-                    }
+                    real* __restrict flo =
+                        d == 1 ? fy_buf.data() + std::size_t(s) * n0
+                               : fz_buf.data() + (std::size_t(s) * n1 + (j - box.lo[1])) * n0;
+                    if (d == 1 ? j == box.lo[1] : k == box.lo[2])
+                        for (int i = 0; i < n0; ++i)
+                            flo[i] = wd[i] * face_value_row(f + i, spd, wd[i]);
+                    transverse_term(f, wd, sud, spd, id, n0, flo, rate);
                 }
                 if (s < n) {
                     // + (L T + T L^T)_ab
@@ -185,6 +206,9 @@ void rate_rows(const Box& box, const SymmetricTensorField& t, const Field* kappa
                             T[x][y] = t.comp[slot[x][y]].data().data() + rp;
                     const real* __restrict La[3] = {Lrow[a][0], Lrow[a][1], Lrow[a][Dim - 1]};
                     const real* __restrict Lb[3] = {Lrow[b][0], Lrow[b][1], Lrow[b][Dim - 1]};
+                    // The rate row, the rows of L and of T are distinct buffers (too many
+                    // pointers for GCC to check at run time, so it is told).
+#pragma GCC ivdep
                     for (int i = 0; i < n0; ++i) {
                         real src = 0;
 #pragma GCC unroll 3

@@ -12,12 +12,13 @@
 //
 // Two forms of the same stencils: the pointwise kernels below (the reference, for tests
 // and single cells) and the row sweeps that advance() runs (transport.cpp): unit-stride
-// rows over raw pointers, L computed once per row for all components, each x-face flux
-// once, the upwind choice and the limiter as selects (no branches), so the inner loops
-// vectorise; Heun's two stages are fused with the rates (stage 1 writes k1 and T1, stage 2
-// updates T in place), so no pass re-reads a field it has just written. The sweeps
-// multiply by 1/h where the pointwise kernels divide by h: equal to round-off (bit for bit
-// when h is a power of two, as in the capsule cases).
+// rows over raw pointers, L computed once per row for all components, each face's flux
+// once (x within the row; y and z kept from the previous row and plane), the upwind choice
+// and the limiter as selects (no branches), so the inner loops vectorise (transport.cpp is
+// compiled with -fno-trapping-math for that, solver/CMakeLists.txt); Heun's two stages are fused
+// with the rates (stage 1 writes k1 and T1, stage 2 updates T in place), so no pass re-reads a
+// field it has just written. The sweeps multiply by 1/h where the pointwise kernels divide by h:
+// equal to round-off (bit for bit when h is a power of two, as in the capsule cases).
 #pragma once
 
 #include "bodies/body.hpp"
