@@ -3,7 +3,12 @@
 // Bytes are counted as STREAM counts them: each array element read or written once (8 B),
 // no write-allocate traffic. Per cell and step: advection 3 x (3 reads + 1 write), predictor
 // 3 x (4 reads + 1 write), correction 3 x (2 reads + 1 write), divergence 3 reads + 1 write.
+// The body tensor transport (bodies/transport.hpp, one Heun step of a membrane's Gs and
+// kappa_R: n = 7 fields, 3D): the first stage reads n + 3 (the fields, u) and writes 2n (k1,
+// T1), the second reads n + 3 + n + n (T1, u, k1, T) and writes n (T): 55 values per cell.
 // Compare each kernel's bytes_per_second with BM_StreamTriad's (same run, same machine).
+#include "bodies/symmetric_tensor.hpp"
+#include "bodies/transport.hpp"
 #include "operators/flow_sweeps.hpp"
 #include "parallel/decomposition.hpp"
 
@@ -105,5 +110,94 @@ void BM_DivergenceSweep(benchmark::State& state) {
     state.SetBytesProcessed(std::int64_t(state.iterations() * f.cells() * 4 * 8));
 }
 BENCHMARK(BM_DivergenceSweep)->Arg(64)->Arg(128)->Unit(benchmark::kMillisecond);
+
+// One Heun step of the tensor transport on the whole block (the body's patch in a run; the
+// halo exchanges between the stages are not timed): Gs near the identity, kappa_R, and the
+// benchmark's velocity, whose gradient changes sign (both upwind sides, both limiter cases).
+struct TensorFields {
+    Fields f;
+    Box box;
+    SymmetricTensorField t, t1;
+    Field kappa, kappa1;
+    std::vector<Field> k1, k2;
+    explicit TensorFields(int n) : f(n), box{{0, 0, 0}, f.dec.block().cells} {
+        t.dim = 3;
+        for (int s = 0; s < SymmetricTensorField::count(3); ++s) {
+            t.comp.emplace_back("Gs", Location::Cell, f.dec.block(), 3);
+            auto& d = t.comp.back().data();
+            for (std::size_t m = 0; m < d.size(); ++m)
+                d[m] = (s < 3 ? 1.0 : 0.0) + 0.1 * std::cos(0.003 * double(m) + s);
+        }
+        kappa = Field("kappa_R", Location::Cell, f.dec.block(), 3);
+        kappa.fill(1.0);
+        t1 = t;
+        kappa1 = kappa;
+        k1.assign(t.comp.size() + 1, t.comp[0]);
+        k2 = k1;
+    }
+    /// Values per cell moved by one Heun step, counted as STREAM counts (header).
+    std::int64_t bytes_per_cell() const {
+        const std::int64_t n = std::int64_t(k1.size());
+        return ((n + 3) + 2 * n + (3 * n + 3) + n) * 8;
+    }
+};
+
+void BM_TensorTransport(benchmark::State& state) {
+    TensorFields b(int(state.range(0)));
+    const real dt = 1e-3;
+    for (auto _ : state) {
+        transport_predict(b.box, b.t, &b.kappa, b.f.u, b.f.dec.grid(), dt, b.k1, b.t1, &b.kappa1);
+        transport_correct(b.box, b.t1, &b.kappa1, b.f.u, b.f.dec.grid(), dt, b.k1, b.t, &b.kappa);
+        benchmark::DoNotOptimize(b.t.comp[0].data().data());
+    }
+    state.SetItemsProcessed(std::int64_t(state.iterations() * b.f.cells()));
+    state.SetBytesProcessed(std::int64_t(state.iterations() * b.f.cells()) * b.bytes_per_cell());
+}
+BENCHMARK(BM_TensorTransport)->Arg(64)->Arg(128)->Unit(benchmark::kMillisecond);
+
+// The same step the way it ran before the sweeps (the pointwise kernels per cell and
+// component, k1 and k2 stored, one update pass per field and stage): the reference the
+// sweep is measured against, with the same byte count.
+void BM_TensorTransportPointwise(benchmark::State& state) {
+    TensorFields b(int(state.range(0)));
+    const real dt = 1e-3;
+    const GlobalGrid& g = b.f.dec.grid();
+    const int n = int(b.t.comp.size());
+    auto rates = [&](const SymmetricTensorField& t, const Field& kappa, std::vector<Field>& out) {
+        for_each_in(b.box, [&](int i, int j, int k) {
+            const Int3 p{i, j, k};
+            const Matrix3 L = velocity_gradient_at(b.f.u, g, p);
+            for (int a = 0; a < 3; ++a)
+                for (int c = a; c < 3; ++c) {
+                    const int s = SymmetricTensorField::slot(a, c, 3);
+                    real src = 0;
+                    for (int e = 0; e < 3; ++e)
+                        src += L[a][e] * t.value(e, c, p) + t.value(a, e, p) * L[c][e];
+                    out[s](p) = advection_rate_at(t.comp[s], b.f.u, g, p) + src;
+                }
+            out[n](p) = advection_rate_at(kappa, b.f.u, g, p);
+        });
+    };
+    auto field = [&](SymmetricTensorField& t, Field& kappa, int s) -> Field& {
+        return s < n ? t.comp[s] : kappa;
+    };
+    for (auto _ : state) {
+        rates(b.t, b.kappa, b.k1);
+        for (int s = 0; s <= n; ++s)
+            for_each_in(b.box, [&](int i, int j, int k) {
+                field(b.t1, b.kappa1, s)(i, j, k) =
+                    field(b.t, b.kappa, s)(i, j, k) + dt * b.k1[s](i, j, k);
+            });
+        rates(b.t1, b.kappa1, b.k2);
+        for (int s = 0; s <= n; ++s)
+            for_each_in(b.box, [&](int i, int j, int k) {
+                field(b.t, b.kappa, s)(i, j, k) += 0.5 * dt * (b.k1[s](i, j, k) + b.k2[s](i, j, k));
+            });
+        benchmark::DoNotOptimize(b.t.comp[0].data().data());
+    }
+    state.SetItemsProcessed(std::int64_t(state.iterations() * b.f.cells()));
+    state.SetBytesProcessed(std::int64_t(state.iterations() * b.f.cells()) * b.bytes_per_cell());
+}
+BENCHMARK(BM_TensorTransportPointwise)->Arg(64)->Unit(benchmark::kMillisecond);
 
 } // namespace

@@ -2,7 +2,10 @@
 
 #include "operators/flow_operators.hpp"
 
+#include <algorithm>
 #include <cmath>
+#include <cstddef>
+#include <stdexcept>
 
 namespace efsi {
 
@@ -54,25 +57,208 @@ real advection_rate_at(const Field& s, const VelocityField& u, const GlobalGrid&
     return rate;
 }
 
-void BodyTransport::rates(const Body& body, const SymmetricTensorField& t, const Field* kappa,
-                          const VelocityField& u, std::vector<Field>& out) {
-    const GlobalGrid& g = halos_.decomposition().grid();
-    const int dim = t.dim;
-    const int n = SymmetricTensorField::count(dim);
-    for_each_in(body.patch().local, [&](int i, int j, int k) {
-        const Int3 p{i, j, k};
-        const Matrix3 L = velocity_gradient_at(u, g, p);
-        for (int a = 0; a < 3; ++a)
-            for (int b = a; b < 3; ++b) {
-                const int s = SymmetricTensorField::slot(a, b, dim);
-                if (s < 0) continue;
-                // (L T + T L^T)_ab
-                real src = 0;
-                for (int c = 0; c < 3; ++c)
-                    src += L[a][c] * t.value(c, b, p) + t.value(a, c, p) * L[b][c];
-                out[s](p) = advection_rate_at(t.comp[s], u, g, p) + src;
+namespace {
+
+/// van_leer() without a branch: the inputs of the division are selected (0 / 1 where the
+/// limiter is off), never its result, so every operation runs in every lane and the loops
+/// that call it vectorise (an operation under a condition that may trap is not speculated).
+inline real van_leer_select(real a, real b) {
+    const bool limited = a * b > 0;
+    const real num = limited ? 2 * a * b : real(0);
+    const real den = limited ? a + b : real(1);
+    return num / den;
+}
+
+/// face_value() on a raw row: the low face (stride st) of the point s[0], upwinded by w; the
+/// upwind cell's value and differences are selected first, so one limiter serves both sides
+/// (c - x is c + (-x) exactly, so the sign is a factor).
+inline real face_value_row(const real* s, std::ptrdiff_t st, real w) {
+    const real sm2 = s[-2 * st], sm1 = s[-st], s0 = s[0], sp1 = s[st];
+    const real d1 = sm1 - sm2, d2 = s0 - sm1, d3 = sp1 - s0;
+    const bool up = w >= 0;
+    const real c = up ? sm1 : s0;
+    const real a = up ? d1 : d2;
+    const real b = up ? d2 : d3;
+    return c + (up ? real(0.5) : real(-0.5)) * van_leer_select(a, b);
+}
+
+/// The y or z term of advection_rate_at on a row: rate -= (flux_div - s div_d u) / h_d, the
+/// low faces' fluxes taken from `flo`, which receives the high faces' for the next row.
+inline void transverse_term(const real* __restrict f, const real* __restrict wd, std::ptrdiff_t sud,
+                            std::ptrdiff_t spd, real id, int n0, real* __restrict flo,
+                            real* __restrict rate) {
+    for (int i = 0; i < n0; ++i) {
+        const real wl = wd[i], wh = wd[i + sud];
+        const real fhi = wh * face_value_row(f + i + spd, spd, wh);
+        const real flux_div = fhi - flo[i];
+        rate[i] -= (flux_div - f[i] * (wh - wl)) * id;
+        flo[i] = fhi;
+    }
+}
+
+/// Rates of the tensor's stored components (and kappa) on `box`, row by row: for each row
+/// (j, k) and field s (the components in slot order, kappa last) calls
+/// finish(s, offset, rate), `offset` the index of the row's first point in the patch fields
+/// and rate[0..n0) its rates. Exactly the pointwise kernels' expressions (with 1/h).
+template <int Dim, class Finish>
+void rate_rows(const Box& box, const SymmetricTensorField& t, const Field* kappa,
+               const VelocityField& u, const GlobalGrid& g, Finish&& finish) {
+    if (box.empty()) return;
+    const Field& lay = t.comp[0];
+    for (int d = 1; d < Dim; ++d)
+        if (u[d].extent() != u[0].extent() || u[d].begin() != u[0].begin())
+            throw std::logic_error("transport: velocity components differ in layout");
+    for (const Field& c : t.comp)
+        if (c.extent() != lay.extent() || c.begin() != lay.begin())
+            throw std::logic_error("transport: tensor components differ in layout");
+    if (kappa && (kappa->extent() != lay.extent() || kappa->begin() != lay.begin()))
+        throw std::logic_error("transport: kappa_R differs from the tensor in layout");
+    constexpr int n = Dim == 2 ? 3 : 6;
+    const int nfields = n + (kappa ? 1 : 0);
+    std::ptrdiff_t su[3] = {1, std::ptrdiff_t(u[0].extent()[0]),
+                            std::ptrdiff_t(u[0].extent()[0]) * u[0].extent()[1]};
+    std::ptrdiff_t sp[3] = {1, std::ptrdiff_t(lay.extent()[0]),
+                            std::ptrdiff_t(lay.extent()[0]) * lay.extent()[1]};
+    real inv[3];
+    for (int d = 0; d < 3; ++d)
+        inv[d] = d < Dim ? 1.0 / g.dx(d) : 0.0;
+    // The stored (a, b) of each slot, and the slot of each (a, b).
+    int pa[6], pb[6], slot[3][3];
+    for (int a = 0; a < Dim; ++a)
+        for (int b = 0; b < Dim; ++b) {
+            slot[a][b] = SymmetricTensorField::slot(a, b, Dim);
+            pa[slot[a][b]] = std::min(a, b);
+            pb[slot[a][b]] = std::max(a, b);
+        }
+    const int n0 = box.hi[0] - box.lo[0];
+    // Row buffers: L (Dim x Dim rows), the x-face fluxes (n0 + 1) and the rates.
+    std::vector<real> buf(std::size_t(n0) * (Dim * Dim + 1) + std::size_t(n0) + 1);
+    real* Lrow[3][3] = {};
+    for (int a = 0; a < Dim; ++a)
+        for (int c = 0; c < Dim; ++c)
+            Lrow[a][c] = buf.data() + std::size_t(a * Dim + c) * n0;
+    real* __restrict rate = buf.data() + std::size_t(Dim * Dim) * n0;
+    real* __restrict fx = rate + n0;
+    // The flux through the low y-face of a row is the high one of the row before, and the
+    // low z-face's that of the plane before: kept per field (fy: one row, fz: one plane),
+    // computed afresh on the box's first row and plane, so every face is computed once.
+    const int n1 = box.hi[1] - box.lo[1];
+    std::vector<real> fy_buf(std::size_t(nfields) * n0);
+    std::vector<real> fz_buf(Dim > 2 ? std::size_t(nfields) * n0 * n1 : 0);
+    const real* ubase[3] = {};
+    for (int d = 0; d < Dim; ++d)
+        ubase[d] = u[d].data().data();
+    for (int k = box.lo[2]; k < box.hi[2]; ++k)
+        for (int j = box.lo[1]; j < box.hi[1]; ++j) {
+            const std::ptrdiff_t ru = std::ptrdiff_t(u[0].index(box.lo[0], j, k));
+            const std::ptrdiff_t rp = std::ptrdiff_t(lay.index(box.lo[0], j, k));
+            // L on the row (velocity_gradient_at).
+            for (int a = 0; a < Dim; ++a) {
+                const real* __restrict ua = ubase[a] + ru;
+                const std::ptrdiff_t sa = su[a];
+                for (int c = 0; c < Dim; ++c) {
+                    real* __restrict l = Lrow[a][c];
+                    if (a == c) {
+                        const real ia = inv[a];
+                        for (int i = 0; i < n0; ++i)
+                            l[i] = (ua[i + sa] - ua[i]) * ia;
+                    } else {
+                        const std::ptrdiff_t sc = su[c];
+                        const real ic = inv[c];
+                        for (int i = 0; i < n0; ++i) {
+                            const real c1 = ua[i + sc] - ua[i - sc];
+                            const real c2 = ua[i + sa + sc] - ua[i + sa - sc];
+                            l[i] = 0.25 * (c1 + c2) * ic;
+                        }
+                    }
+                }
             }
-        if (kappa) out[n](p) = advection_rate_at(*kappa, u, g, p);
+            const real* __restrict w0 = ubase[0] + ru;
+            for (int s = 0; s < nfields; ++s) {
+                const real* __restrict f = (s < n ? t.comp[s] : *kappa).data().data() + rp;
+                // x-face fluxes w s_face, faces i - 1/2 for i = 0..n0.
+                for (int i = 0; i <= n0; ++i)
+                    fx[i] = w0[i] * face_value_row(f + i, 1, w0[i]);
+                // advection_rate_at: the x term, then y (and z).
+                for (int i = 0; i < n0; ++i) {
+                    real r = 0;
+                    r -= ((fx[i + 1] - fx[i]) - f[i] * (w0[i + 1] - w0[i])) * inv[0];
+                    rate[i] = r;
+                }
+                for (int d = 1; d < Dim; ++d) {
+                    const real* __restrict wd = ubase[d] + ru;
+                    const std::ptrdiff_t sud = su[d], spd = sp[d];
+                    const real id = inv[d];
+                    real* __restrict flo =
+                        d == 1 ? fy_buf.data() + std::size_t(s) * n0
+                               : fz_buf.data() + (std::size_t(s) * n1 + (j - box.lo[1])) * n0;
+                    if (d == 1 ? j == box.lo[1] : k == box.lo[2])
+                        for (int i = 0; i < n0; ++i)
+                            flo[i] = wd[i] * face_value_row(f + i, spd, wd[i]);
+                    transverse_term(f, wd, sud, spd, id, n0, flo, rate);
+                }
+                if (s < n) {
+                    // + (L T + T L^T)_ab
+                    const int a = pa[s], b = pb[s];
+                    const real* __restrict T[3][3] = {};
+                    for (int x = 0; x < Dim; ++x)
+                        for (int y = 0; y < Dim; ++y)
+                            T[x][y] = t.comp[slot[x][y]].data().data() + rp;
+                    const real* __restrict La[3] = {Lrow[a][0], Lrow[a][1], Lrow[a][Dim - 1]};
+                    const real* __restrict Lb[3] = {Lrow[b][0], Lrow[b][1], Lrow[b][Dim - 1]};
+                    // The rate row, the rows of L and of T are distinct buffers (too many
+                    // pointers for GCC to check at run time, so it is told).
+#pragma GCC ivdep
+                    for (int i = 0; i < n0; ++i) {
+                        real src = 0;
+#pragma GCC unroll 3
+                        for (int c = 0; c < Dim; ++c)
+                            src += La[c][i] * T[c][b][i] + T[a][c][i] * Lb[c][i];
+                        // 2D: the pointwise kernel adds the (zero) c = z term too.
+                        if constexpr (Dim == 2) src += real(0);
+                        rate[i] = rate[i] + src;
+                    }
+                }
+                finish(s, rp, static_cast<const real*>(rate), n0);
+            }
+        }
+}
+
+template <class Finish>
+void rate_rows(const Box& box, const SymmetricTensorField& t, const Field* kappa,
+               const VelocityField& u, const GlobalGrid& g, Finish&& finish) {
+    if (t.dim == 3)
+        rate_rows<3>(box, t, kappa, u, g, finish);
+    else
+        rate_rows<2>(box, t, kappa, u, g, finish);
+}
+
+} // namespace
+
+void transport_predict(const Box& box, const SymmetricTensorField& t, const Field* kappa,
+                       const VelocityField& u, const GlobalGrid& g, real dt, std::vector<Field>& k1,
+                       SymmetricTensorField& t1, Field* kappa1) {
+    const int n = int(t.comp.size());
+    rate_rows(box, t, kappa, u, g, [&](int s, std::ptrdiff_t off, const real* rate, int n0) {
+        const real* __restrict f = (s < n ? t.comp[s] : *kappa).data().data() + off;
+        real* __restrict k = k1[s].data().data() + off;
+        real* __restrict st = (s < n ? t1.comp[s] : *kappa1).data().data() + off;
+        for (int i = 0; i < n0; ++i) {
+            k[i] = rate[i];
+            st[i] = f[i] + dt * rate[i];
+        }
+    });
+}
+
+void transport_correct(const Box& box, const SymmetricTensorField& t1, const Field* kappa1,
+                       const VelocityField& u, const GlobalGrid& g, real dt,
+                       const std::vector<Field>& k1, SymmetricTensorField& t, Field* kappa) {
+    const int n = int(t.comp.size());
+    rate_rows(box, t1, kappa1, u, g, [&](int s, std::ptrdiff_t off, const real* rate, int n0) {
+        const real* __restrict k = k1[s].data().data() + off;
+        real* __restrict f = (s < n ? t.comp[s] : *kappa).data().data() + off;
+        for (int i = 0; i < n0; ++i)
+            f[i] += 0.5 * dt * (k[i] + rate[i]);
     });
 }
 
@@ -82,32 +268,25 @@ void BodyTransport::advance(Body& body, const VelocityField& u, real dt) {
     Field* kappa = body.reference_curvature();
     const int n = int(t.comp.size());
     const int total = n + (kappa ? 1 : 0);
-    auto field = [&](int s) -> Field& { return s < n ? t.comp[s] : *kappa; };
-    auto stage = [&](int s) -> Field& { return s < n ? stage_.comp[s] : stage_kappa_; };
+    const GlobalGrid& g = halos_.decomposition().grid();
     // Scratch fields follow the body's patch.
     if (int(k1_.size()) != total || k1_[0].begin() != t.comp[0].begin() ||
         k1_[0].cells() != t.comp[0].cells()) {
         k1_.assign(total, t.comp[0]);
-        k2_.assign(total, t.comp[0]);
         stage_ = t;
         if (kappa) stage_kappa_ = *kappa;
     }
+    Field* stage_kappa = kappa ? &stage_kappa_ : nullptr;
     // Stage 1: k1 = R(T^n); T1 = T^n + dt k1.
-    for (int s = 0; s < total; ++s)
-        halos_.fill(field(s), body.patch());
-    rates(body, t, kappa, u, k1_);
-    for (int s = 0; s < total; ++s) {
-        for_each_in(body.patch().local, [&](int i, int j, int k) {
-            stage(s)(i, j, k) = field(s)(i, j, k) + dt * k1_[s](i, j, k);
-        });
-        halos_.fill(stage(s), body.patch());
-    }
-    // Stage 2: k2 = R(T1); T^{n+1} = T^n + dt/2 (k1 + k2).
-    rates(body, stage_, kappa ? &stage_kappa_ : nullptr, u, k2_);
-    for (int s = 0; s < total; ++s)
-        for_each_in(body.patch().local, [&](int i, int j, int k) {
-            field(s)(i, j, k) += 0.5 * dt * (k1_[s](i, j, k) + k2_[s](i, j, k));
-        });
+    for (Field& c : t.comp)
+        halos_.fill(c, body.patch());
+    if (kappa) halos_.fill(*kappa, body.patch());
+    transport_predict(body.patch().local, t, kappa, u, g, dt, k1_, stage_, stage_kappa);
+    for (Field& c : stage_.comp)
+        halos_.fill(c, body.patch());
+    if (kappa) halos_.fill(stage_kappa_, body.patch());
+    // Stage 2: T^{n+1} = T^n + dt/2 (k1 + R(T1)).
+    transport_correct(body.patch().local, stage_, stage_kappa, u, g, dt, k1_, t, kappa);
 }
 
 } // namespace efsi

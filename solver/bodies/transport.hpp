@@ -9,6 +9,16 @@
 // evaluated at cell centres: diagonal terms from the two faces of the cell, off-diagonal
 // terms as central differences averaged over the cell's two faces (exact for linear v).
 // Time: Heun's method (RK2) with the velocity of the end of the flow step held fixed.
+//
+// Two forms of the same stencils: the pointwise kernels below (the reference, for tests
+// and single cells) and the row sweeps that advance() runs (transport.cpp): unit-stride
+// rows over raw pointers, L computed once per row for all components, each face's flux
+// once (x within the row; y and z kept from the previous row and plane), the upwind choice
+// and the limiter as selects (no branches), so the inner loops vectorise (transport.cpp is
+// compiled with -fno-trapping-math for that, solver/CMakeLists.txt); Heun's two stages are fused
+// with the rates (stage 1 writes k1 and T1, stage 2 updates T in place), so no pass re-reads a
+// field it has just written. The sweeps multiply by 1/h where the pointwise kernels divide by h:
+// equal to round-off (bit for bit when h is a power of two, as in the capsule cases).
 #pragma once
 
 #include "bodies/body.hpp"
@@ -26,6 +36,19 @@ Matrix3 velocity_gradient_at(const VelocityField& u, const GlobalGrid& g, const 
 /// -u.grad s at the centre of cell p (MUSCL / van Leer, flux form with divergence correction).
 real advection_rate_at(const Field& s, const VelocityField& u, const GlobalGrid& g, const Int3& p);
 
+/// Heun's first stage on `box` (block-local cells): k1 = R(T^n) and T1 = T^n + dt k1, R the
+/// rates above; kappa (may be null) is carried as one more field, last in k1. T and kappa
+/// need their halos filled; every tensor, kappa, k1 and T1 field shares one patch layout.
+void transport_predict(const Box& box, const SymmetricTensorField& t, const Field* kappa,
+                       const VelocityField& u, const GlobalGrid& g, real dt, std::vector<Field>& k1,
+                       SymmetricTensorField& t1, Field* kappa1);
+
+/// Heun's second stage on `box`: T^{n+1} = T^n + dt/2 (k1 + R(T1)), in place in t and kappa
+/// (T1 and kappa1 with their halos filled).
+void transport_correct(const Box& box, const SymmetricTensorField& t1, const Field* kappa1,
+                       const VelocityField& u, const GlobalGrid& g, real dt,
+                       const std::vector<Field>& k1, SymmetricTensorField& t, Field* kappa);
+
 class BodyTransport {
   public:
     explicit BodyTransport(const HaloFiller& halos) : halos_(halos) {}
@@ -33,10 +56,8 @@ class BodyTransport {
     void advance(Body& body, const VelocityField& u, real dt);
 
   private:
-    void rates(const Body& body, const SymmetricTensorField& t, const Field* kappa,
-               const VelocityField& u, std::vector<Field>& out);
     const HaloFiller& halos_;
-    std::vector<Field> k1_, k2_;
+    std::vector<Field> k1_;
     SymmetricTensorField stage_; ///< T^n + dt k1
     Field stage_kappa_;
 };
