@@ -1,4 +1,5 @@
 #include "bodies/body_system.hpp"
+#include "membrane/kinematics.hpp"
 
 #include "core/error.hpp"
 #include "interface/geometry.hpp"
@@ -336,7 +337,7 @@ std::vector<BodyDiagnostics> BodySystem::measure() const {
                    B = std::sqrt(std::max(mean - dev, 0.0));
         d.taylor_deformation = L + B > 0 ? (L - B) / (L + B) : 0.0;
         d.inclination_over_pi = 0.5 * std::atan2(2 * mxy, mxx - myy) / 3.141592653589793;
-        real trace_max = 0;
+        real trace_max = 0, reference_area = 0;
         const SymmetricTensorField& T = b.tensor();
         // A membrane's Gs means the membrane's stretch only in its band (beyond it is I or
         // an extension): its largest trace is taken where the force is, 1e-5 < phi < 1 - 1e-5
@@ -365,8 +366,18 @@ std::vector<BodyDiagnostics> BodySystem::measure() const {
                 }
                 trace_max =
                     std::max(trace_max, T.value(0, 0, p) + T.value(1, 1, p) + T.value(2, 2, p));
+                if (membrane) {
+                    Matrix3 Gs{};
+                    for (int r = 0; r < 3; ++r)
+                        for (int c = 0; c < 3; ++c)
+                            Gs[r][c] = T.value(r, c, p);
+                    const real J = std::sqrt(std::max(second_invariant(Gs), real(1e-300)));
+                    const Real3 gr = gradient_at(b.phi(), g, p, GradientStencil::Isotropic);
+                    reference_area += std::sqrt(gr[0] * gr[0] + gr[1] * gr[1] + gr[2] * gr[2]) / J;
+                }
             });
         d.tensor_trace_max = dec_.max(trace_max);
+        d.reference_area = membrane ? dec_.sum(reference_area) * g.cell_volume() : 0.0;
         d.volume = v * g.cell_volume();
         d.phi_min = dec_.min(lo);
         d.phi_max = dec_.max(hi);

@@ -36,6 +36,12 @@ struct BodyDiagnostics {
     /// membrane's band 1e-5 < phi < 1 - 1e-5 (2 at rest in 3D and 2D); 0 without a tensor.
     /// Bounded in a steady deformation (docs/method.md, Solids).
     real tensor_trace_max = 0;
+    /// Membranes: the area the stored strain implies for the unstrained membrane, the
+    /// integral of |grad phi| / J(Gs) over the band (J = sqrt of Gs's second invariant, the
+    /// local area ratio). Constant in time when Gs stays consistent with the surface it sits
+    /// on; its drift is strain lost or gained by the numerics (a creeping reference shape).
+    /// 0 for other bodies.
+    real reference_area = 0;
 };
 
 class BodySystem {

@@ -159,7 +159,7 @@ Simulation::Simulation(const Config& config, const RunOptions& options, MPI_Comm
                 std::ofstream(opt_.output_dir / "bodies.csv")
                     << "step,time,body,volume,centroid_x,centroid_y,centroid_z,phi_min,phi_max,"
                        "clipped_volume,patch_cells,bytes,area,taylor_deformation,inclination_over_"
-                       "pi,tensor_trace_max\n";
+                       "pi,tensor_trace_max,reference_area\n";
             if (adhesion_)
                 std::ofstream(opt_.output_dir / "adhesion.csv")
                     << AdhesionRecord::csv_header() << "\n";
@@ -318,13 +318,13 @@ void Simulation::write_outputs_if_due(bool final_step) {
                 if (dec_->rank() == 0) {
                     std::ofstream out(opt_.output_dir / "bodies.csv", std::ios::app);
                     for (const auto& b : last_bodies_)
-                        out << fmt::format("{},{:.10e},{},{:.12e},{:.10e},{:.10e},{:.10e},{:.6e},"
-                                           "{:.6e},{:.3e},{},{},{:.10e},{:.8e},{:.8e},{:.8e}\n",
-                                           s.step, s.time, b.name, b.volume, b.centroid[0],
-                                           b.centroid[1], b.centroid[2], b.phi_min, b.phi_max,
-                                           b.clipped_volume, b.patch_cells, b.bytes, b.area,
-                                           b.taylor_deformation, b.inclination_over_pi,
-                                           b.tensor_trace_max);
+                        out << fmt::format(
+                            "{},{:.10e},{},{:.12e},{:.10e},{:.10e},{:.10e},{:.6e},"
+                            "{:.6e},{:.3e},{},{},{:.10e},{:.8e},{:.8e},{:.8e},{:.10e}\n",
+                            s.step, s.time, b.name, b.volume, b.centroid[0], b.centroid[1],
+                            b.centroid[2], b.phi_min, b.phi_max, b.clipped_volume, b.patch_cells,
+                            b.bytes, b.area, b.taylor_deformation, b.inclination_over_pi,
+                            b.tensor_trace_max, b.reference_area);
                     out.close();
                     if (!out) failed = 2;
                 }
@@ -578,7 +578,9 @@ void Simulation::write_summary(double wall_seconds, const std::string& status,
                           {"bytes", b.bytes},
                           {"area", b.area},
                           {"taylor_deformation", b.taylor_deformation},
-                          {"inclination_over_pi", b.inclination_over_pi}});
+                          {"inclination_over_pi", b.inclination_over_pi},
+                          {"tensor_trace_max", b.tensor_trace_max},
+                          {"reference_area", b.reference_area}});
     j["bodies"] = bodies;
     if (adhesion_) j["adhesion"] = adhesion_record_.summary(*adhesion_);
     // Written aside and renamed: a failed write never leaves a truncated summary.
