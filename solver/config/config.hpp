@@ -5,6 +5,7 @@
 #include "boundary/boundary.hpp"
 #include "config/adhesion_config.hpp"
 #include "config/body_config.hpp"
+#include "config/seeding_config.hpp"
 #include "core/types.hpp"
 #include "grid/grid.hpp"
 #include "linear/structured_solver.hpp"
@@ -70,7 +71,8 @@ struct Config {
     OutputConfig output;
     StabilityConfig stability;
     Int3 ranks{0, 0, 0};
-    std::vector<BodyConfig> bodies;
+    std::vector<BodyConfig> bodies; ///< given by hand, then those [seeding] placed
+    SeedingReport seeding;          ///< what [seeding] placed (used = false without it)
     VofConfig vof;
     AdhesionConfig adhesion;   ///< [adhesion]; enabled = false (and empty) without the table
     std::string resolved_toml; ///< the configuration with every default filled in
