@@ -1,5 +1,7 @@
 #include "bodies/body_system.hpp"
 
+#include "bodies/contact.hpp"
+
 #include "core/error.hpp"
 #include "interface/geometry.hpp"
 #include "interface/shapes.hpp"
@@ -234,6 +236,7 @@ bool BodySystem::viscosity_varies() const {
 }
 
 bool BodySystem::adds_force() const {
+    if (cfg_.contact.stiffness > 0 && bodies_.size() > 1) return true;
     for (const auto& p : physics_)
         if (p->adds_force()) return true;
     return false;
@@ -244,6 +247,15 @@ void BodySystem::add_forces(VelocityField& force) {
         force[c].fill(0);
     for (std::size_t i = 0; i < bodies_.size(); ++i)
         physics_[i]->add_force(*bodies_[i], force);
+    if (cfg_.contact.stiffness > 0 && bodies_.size() > 1) {
+        std::vector<const Body*> list;
+        std::vector<bool> held;
+        for (std::size_t i = 0; i < bodies_.size(); ++i) {
+            list.push_back(bodies_[i].get());
+            held.push_back(!physics_[i]->moves());
+        }
+        add_contact_forces(list, held, dec_, cfg_.contact.stiffness, force);
+    }
 }
 
 bool BodySystem::add_pinning(Field& chi) const {

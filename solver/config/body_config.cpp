@@ -182,8 +182,6 @@ std::vector<BodyConfig> read_bodies(TableReader& top, const GlobalGrid& grid,
                         "reaches outside the domain [{:.4g}, {:.4g}] in {}",
                         at, b.lumen_diameter, d, b.centre[d], lo, hi, "xyz"[d]));
             }
-        } else if (b.lumen_diameter != 0) {
-            throw InputError(at + ": lumen_diameter is for shape = \"tube\"");
         }
         if (b.shape == BodyShape::Mask && b.mask_file.empty())
             throw InputError(at + ": shape 'mask' needs body.mask_file");
@@ -255,6 +253,13 @@ std::vector<BodyConfig> read_bodies(TableReader& top, const GlobalGrid& grid,
         bodies.push_back(b);
     }
     return bodies;
+}
+
+void check_shape_keys(const std::vector<BodyConfig>& bodies) {
+    for (const BodyConfig& b : bodies)
+        if (b.shape != BodyShape::Tube && b.lumen_diameter != 0)
+            throw InputError(
+                fmt::format("body '{}': lumen_diameter is for shape = \"tube\"", b.name));
 }
 
 VofConfig read_vof(TableReader& top) {

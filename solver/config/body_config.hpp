@@ -124,9 +124,13 @@ struct VofConfig {
 Real3 body_half_extent(const BodyConfig& b, int dim);
 
 /// Read and check the [[body]] sections against the grid (a body outside the domain is an
-/// error naming it). Called by the case reader.
+/// error naming it). Called by the case reader, which then checks the mask files and keys
+/// that belong to another shape (check_shape_keys).
 std::vector<BodyConfig> read_bodies(TableReader& top, const GlobalGrid& grid,
                                     const std::array<bool, 3>& periodic);
+/// Keys set for a shape the body does not have (lumen_diameter on a non-tube): checked last,
+/// so a shape changed by hand is reported for what the new shape misses.
+void check_shape_keys(const std::vector<BodyConfig>& bodies);
 VofConfig read_vof(TableReader& top);
 
 } // namespace efsi

@@ -79,6 +79,8 @@ std::string case_fingerprint(const Config& c) {
                          keyword(b.law), b.elastic_modulus, b.area_dilation, b.bending_modulus,
                          keyword(b.strain_velocity), b.surface_velocity_reach));
     }
+    if (c.contact.stiffness > 0)
+        line("contact.stiffness", fmt::format("{:.17g}", c.contact.stiffness));
     out += adhesion_fingerprint(c.adhesion);
     return out;
 }
@@ -359,7 +361,17 @@ Config read_config(toml::table& root, const std::filesystem::path& case_dir) {
                 throw InputError(
                     fmt::format("body[{}].mask_file = \"{}\": not a regular file", k, b.mask_file));
         }
+    if (!KeyCatalogue::instance().documenting) check_shape_keys(c.bodies);
     c.seeding = expand_seeding(root, top, c.grid, periodic_directions(c.boundaries), c.bodies);
+    {
+        TableReader r = top.sub("contact", "short-range repulsion between bodies");
+        c.contact.stiffness =
+            r.number("stiffness", 0.0, Range::non_negative(), "Pa",
+                     "k of the pair force -k sum a_i grad(a_j) dV between bodies (a = phi "
+                     "dilated by one cell), spread over each body's volume; 0: no contact "
+                     "force (docs/method.md, \"Contact between bodies\")");
+        r.finish();
+    }
     c.vof = read_vof(top);
     c.adhesion = read_adhesion(top, c.grid, c.bodies);
     {

@@ -55,6 +55,11 @@ struct StabilityConfig {
     real max_tensor_trace = 100;
 };
 
+/// Short-range repulsion between bodies (bodies/contact.hpp); stiffness 0: none.
+struct ContactConfig {
+    real stiffness = 0; ///< k [Pa] of F_ij = -k sum a_i grad a_j dV
+};
+
 struct Config {
     std::string name;
     std::string description;
@@ -73,6 +78,7 @@ struct Config {
     Int3 ranks{0, 0, 0};
     std::vector<BodyConfig> bodies; ///< given by hand, then those [seeding] placed
     SeedingReport seeding;          ///< what [seeding] placed (used = false without it)
+    ContactConfig contact;
     VofConfig vof;
     AdhesionConfig adhesion;   ///< [adhesion]; enabled = false (and empty) without the table
     std::string resolved_toml; ///< the configuration with every default filled in

@@ -95,6 +95,7 @@ BodyConfig read_template_body(const toml::table& body, std::size_t i, const std:
     TableReader top(&tmp, "");
     try {
         std::vector<BodyConfig> one = read_bodies(top, grid, periodic);
+        check_shape_keys(one);
         return one.at(0);
     } catch (const InputError& e) {
         std::string m = replace_all(e.what(), "body[0]", at);
