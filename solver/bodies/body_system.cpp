@@ -1,6 +1,8 @@
 #include "bodies/body_system.hpp"
 #include "membrane/kinematics.hpp"
 
+#include "bodies/contact.hpp"
+
 #include "core/error.hpp"
 #include "interface/geometry.hpp"
 #include "interface/shapes.hpp"
@@ -28,8 +30,12 @@ std::unique_ptr<Shape> make_shape(const BodyConfig& b) {
     case BodyShape::Biconcave: {
         EvansFungCoefficients k;
         k.r0 = b.radius;
-        return make_biconcave_disc(b.centre, rot, k);
+        // The smoothed (membrane) profile needs a distance; the sharp one only the sign.
+        return b.interface == InterfaceKind::Smoothed ? make_biconcave_distance(b.centre, rot, k)
+                                                      : make_biconcave_disc(b.centre, rot, k);
     }
+    case BodyShape::Tube:
+        return make_tube(b.centre, 0.5 * b.lumen_diameter);
     case BodyShape::Cylinder:
         return make_cylinder(b.centre, b.radius, rot);
     case BodyShape::Box:
@@ -79,9 +85,22 @@ void BodySystem::initialise_body(std::size_t i) {
     const BodyConfig& bc = cfg_.bodies[i];
     Body& body = *bodies_[i];
     const GlobalGrid& g = dec_.grid();
-    // Start on the whole grid (a mask or slab may be anywhere); track_patches() then
-    // shrinks the patch to the body plus its margin before any step is taken.
-    body.allocate(make_patch(Box{{0, 0, 0}, g.cells}, dec_));
+    // Start on the box that certainly holds the body and the patch it will have (its bounding
+    // box, the smoothed profile's tail, cut where phi < 1e-8, i.e. 9.2 eps out, and the
+    // margin), or on the whole grid where it is unbounded (mask, slab, tube);
+    // track_patches() then shrinks the patch to the body plus its margin before any step.
+    // The values on the final patch are the same either way; the work follows the body.
+    Box start{{0, 0, 0}, g.cells};
+    const Real3 ext = body_half_extent(bc, g.dim);
+    const real h = g.dx(0);
+    for (int d = 0; d < g.dim; ++d) {
+        if (ext[d] < 0) continue;
+        const real tail = bc.interface == InterfaceKind::Smoothed ? 10 * bc.smoothing_width : 1;
+        const real reach = ext[d] + (tail + bc.margin + 2) * h;
+        start.lo[d] = int(std::floor((bc.centre[d] - reach - g.origin[d]) / h));
+        start.hi[d] = int(std::ceil((bc.centre[d] + reach - g.origin[d]) / h));
+    }
+    body.allocate(make_patch(start, dec_));
     Field& phi = body.phi();
     const auto shape = make_shape(bc); // null for a mask
     if (bc.shape == BodyShape::Mask) {
@@ -218,6 +237,7 @@ bool BodySystem::viscosity_varies() const {
 }
 
 bool BodySystem::adds_force() const {
+    if (cfg_.contact.stiffness > 0 && bodies_.size() > 1) return true;
     for (const auto& p : physics_)
         if (p->adds_force()) return true;
     return false;
@@ -228,6 +248,15 @@ void BodySystem::add_forces(VelocityField& force) {
         force[c].fill(0);
     for (std::size_t i = 0; i < bodies_.size(); ++i)
         physics_[i]->add_force(*bodies_[i], force);
+    if (cfg_.contact.stiffness > 0 && bodies_.size() > 1) {
+        std::vector<const Body*> list;
+        std::vector<bool> held;
+        for (std::size_t i = 0; i < bodies_.size(); ++i) {
+            list.push_back(bodies_[i].get());
+            held.push_back(!physics_[i]->moves());
+        }
+        add_contact_forces(list, held, dec_, cfg_.contact.stiffness, force);
+    }
 }
 
 bool BodySystem::add_pinning(Field& chi) const {

@@ -26,9 +26,9 @@ E read_choice(TableReader& r, const std::string& key, E deflt,
     return E(std::find(choices.begin(), choices.end(), v) - choices.begin());
 }
 
-/// Half-extent of the shape's bounding box about its centre (conservative when rotated);
-/// negative entries mean "unbounded along that direction" (slab, cylinder axis).
-Real3 half_extent(const BodyConfig& b, int dim) {
+} // namespace
+
+Real3 body_half_extent(const BodyConfig& b, int dim) {
     const real inf = -1;
     if (b.shape == BodyShape::Sphere) return {b.radius, b.radius, b.radius};
     if (b.shape == BodyShape::Ellipsoid) {
@@ -41,10 +41,8 @@ Real3 half_extent(const BodyConfig& b, int dim) {
         const real m = std::hypot(b.half_sizes[0], b.half_sizes[1], b.half_sizes[2]);
         return {m, m, m};
     }
-    return {inf, inf, inf}; // slab, mask: checked otherwise
+    return {inf, inf, inf}; // slab, mask, tube: checked otherwise
 }
-
-} // namespace
 
 MembraneLawKind parse_membrane_law(const std::string& name, const std::string& key) {
     for (std::size_t k = 0; k < membrane_law_names.size(); ++k)
@@ -74,6 +72,10 @@ std::vector<BodyConfig> read_bodies(TableReader& top, const GlobalGrid& grid,
                                  "box half-sizes along the body axes");
         b.normal = r.vector3("normal", Real3{0, 1, 0}, Range{}, "-", "slab normal");
         b.thickness = r.number("thickness", 0.0, Range::non_negative(), "m", "slab thickness");
+        b.lumen_diameter = r.number("lumen_diameter", 0.0, Range::non_negative(), "m",
+                                    "tube: diameter of the lumen; the body is everything "
+                                    "farther than lumen_diameter / 2 from the line along x "
+                                    "through centre (a vessel wall)");
         b.axis = r.vector3("axis", Real3{0, 0, 1}, Range{}, "-", "orientation: rotation axis");
         b.angle = r.number("angle", 0.0, Range{}, "rad", "orientation: rotation angle about axis");
         b.mask_file = r.string("mask_file", "", {}, "mask: HDF5 file, relative to the case folder");
@@ -166,6 +168,21 @@ std::vector<BodyConfig> read_bodies(TableReader& top, const GlobalGrid& grid,
         if (b.shape == BodyShape::Box)
             need(b.half_sizes[0] > 0 && b.half_sizes[1] > 0 && b.half_sizes[2] > 0, "half_sizes");
         if (b.shape == BodyShape::Slab) need(b.thickness > 0, "thickness");
+        if (b.shape == BodyShape::Tube) {
+            need(b.lumen_diameter > 0, "lumen_diameter");
+            if (b.angle != 0) throw InputError(at + ": a tube's axis is x; body.angle must be 0");
+            if (grid.dim != 3) throw InputError(at + ": shape 'tube' needs a 3D grid");
+            // The lumen must lie in the box across its axis (else it is no tube).
+            for (int d = 1; d < 3; ++d) {
+                const real lo = grid.origin[d], hi = grid.origin[d] + grid.length[d];
+                const real lumen_r = 0.5 * b.lumen_diameter;
+                if (b.centre[d] - lumen_r < lo || b.centre[d] + lumen_r > hi)
+                    throw InputError(fmt::format(
+                        "{}: body.lumen_diameter = {:.4g} m about body.centre[{}] = {:.4g} m "
+                        "reaches outside the domain [{:.4g}, {:.4g}] in {}",
+                        at, b.lumen_diameter, d, b.centre[d], lo, hi, "xyz"[d]));
+            }
+        }
         if (b.shape == BodyShape::Mask && b.mask_file.empty())
             throw InputError(at + ": shape 'mask' needs body.mask_file");
         if (b.kind == BodyKind::Solid && !b.pinned && !(b.shear_modulus > 0))
@@ -193,11 +210,11 @@ std::vector<BodyConfig> read_bodies(TableReader& top, const GlobalGrid& grid,
             throw InputError(at + ": elastic_modulus is for kind = \"membrane\"");
         if (b.kind != BodyKind::Membrane && b.bending_modulus != 0)
             throw InputError(at + ": bending_modulus is for kind = \"membrane\"");
-        if (b.interface == InterfaceKind::Smoothed && b.shape != BodyShape::Sphere &&
-            b.shape != BodyShape::Cylinder && b.shape != BodyShape::Slab &&
-            b.shape != BodyShape::Ellipsoid)
-            throw InputError(at + ": interface = \"smoothed\" needs a sphere, cylinder or "
-                                  "ellipsoid or slab (shapes with a distance-like level function)");
+        if (b.interface == InterfaceKind::Smoothed &&
+            (b.shape == BodyShape::Box || b.shape == BodyShape::Mask))
+            throw InputError(at + ": interface = \"smoothed\" needs a sphere, ellipsoid, "
+                                  "biconcave disc, cylinder, slab or tube (shapes with a "
+                                  "distance-like level function)");
         const real nlen = std::hypot(b.normal[0], b.normal[1], b.normal[2]);
         if (b.shape == BodyShape::Slab && !(nlen > 0))
             throw InputError(at + ": body.normal of a slab must not be zero");
@@ -219,7 +236,7 @@ std::vector<BodyConfig> read_bodies(TableReader& top, const GlobalGrid& grid,
                                              at));
         }
         // A body must lie inside the box along walled directions, and meet the box at all.
-        const Real3 h = half_extent(b, grid.dim);
+        const Real3 h = body_half_extent(b, grid.dim);
         for (int d = 0; d < grid.dim; ++d) {
             if (h[d] < 0) continue;
             const real lo = grid.origin[d], hi = grid.origin[d] + grid.length[d];
@@ -236,6 +253,13 @@ std::vector<BodyConfig> read_bodies(TableReader& top, const GlobalGrid& grid,
         bodies.push_back(b);
     }
     return bodies;
+}
+
+void check_shape_keys(const std::vector<BodyConfig>& bodies) {
+    for (const BodyConfig& b : bodies)
+        if (b.shape != BodyShape::Tube && b.lumen_diameter != 0)
+            throw InputError(
+                fmt::format("body '{}': lumen_diameter is for shape = \"tube\"", b.name));
 }
 
 VofConfig read_vof(TableReader& top) {

@@ -19,7 +19,7 @@ class TableReader;
 
 /// passive (phi only) | solid (carries B; `pinned` makes it a fixed wall) | membrane (Gs).
 enum class BodyKind { Passive, Solid, Membrane };
-enum class BodyShape { Sphere, Ellipsoid, Biconcave, Cylinder, Box, Slab, Mask };
+enum class BodyShape { Sphere, Ellipsoid, Biconcave, Cylinder, Box, Slab, Mask, Tube };
 /// sharp: cell volume fractions; smoothed: the tanh profile of the membranes' smoothed VOF.
 enum class InterfaceKind { Sharp, Smoothed };
 /// The membrane's surface strain energy Ws (MODEL.md).
@@ -30,8 +30,8 @@ enum class StrainVelocity { Surface, Local };
 enum class StrainExtension { Normal, Layers };
 
 inline constexpr std::array<std::string_view, 3> body_kind_names{"passive", "solid", "membrane"};
-inline constexpr std::array<std::string_view, 7> body_shape_names{
-    "sphere", "ellipsoid", "biconcave", "cylinder", "box", "slab", "mask"};
+inline constexpr std::array<std::string_view, 8> body_shape_names{
+    "sphere", "ellipsoid", "biconcave", "cylinder", "box", "slab", "mask", "tube"};
 inline constexpr std::array<std::string_view, 2> interface_names{"sharp", "smoothed"};
 inline constexpr std::array<std::string_view, 2> membrane_law_names{"neo_hookean", "skalak"};
 inline constexpr std::array<std::string_view, 2> strain_velocity_names{"surface", "local"};
@@ -70,6 +70,7 @@ struct BodyConfig {
     Real3 half_sizes{0, 0, 0};         ///< box [m]
     Real3 normal{0, 1, 0};             ///< slab normal
     real thickness = 0;                ///< slab [m]
+    real lumen_diameter = 0;           ///< tube: the wall is farther than this / 2 from its axis
     Real3 axis{0, 0, 1};               ///< orientation: rotation axis
     real angle = 0;                    ///< orientation: rotation angle [rad]
     std::string mask_file;             ///< mask: HDF5 file (relative to the case folder)
@@ -117,10 +118,19 @@ struct VofConfig {
     real beta_mthinc = 2.0;
 };
 
+/// Half-extent of the body's initial bounding box about its centre (conservative when
+/// rotated); negative entries mean "unbounded along that direction" (slab, mask, tube,
+/// the cylinder's axis).
+Real3 body_half_extent(const BodyConfig& b, int dim);
+
 /// Read and check the [[body]] sections against the grid (a body outside the domain is an
-/// error naming it). Called by the case reader.
+/// error naming it). Called by the case reader, which then checks the mask files and keys
+/// that belong to another shape (check_shape_keys).
 std::vector<BodyConfig> read_bodies(TableReader& top, const GlobalGrid& grid,
                                     const std::array<bool, 3>& periodic);
+/// Keys set for a shape the body does not have (lumen_diameter on a non-tube): checked last,
+/// so a shape changed by hand is reported for what the new shape misses.
+void check_shape_keys(const std::vector<BodyConfig>& bodies);
 VofConfig read_vof(TableReader& top);
 
 } // namespace efsi

@@ -60,10 +60,13 @@ std::string case_fingerprint(const Config& c) {
                                        b.pinned, b.pin_tau_over_dt));
         line(at + ".shape",
              fmt::format("{} centre {} radius {:.17g} semi_axes {} half_sizes {} normal {} "
-                         "thickness {:.17g} axis {} angle {:.17g} mask {}:{}",
+                         "thickness {:.17g} axis {} angle {:.17g} mask {}:{}{}",
                          keyword(b.shape), r3(b.centre), b.radius, r3(b.semi_axes),
                          r3(b.half_sizes), r3(b.normal), b.thickness, r3(b.axis), b.angle,
-                         b.mask_file, b.mask_dataset));
+                         b.mask_file, b.mask_dataset,
+                         b.shape == BodyShape::Tube
+                             ? fmt::format(" lumen_diameter {:.17g}", b.lumen_diameter)
+                             : ""));
         line(at + ".interface",
              fmt::format("{} smoothing_width {:.17g} subsamples {} margin {}", keyword(b.interface),
                          b.smoothing_width, b.subsamples, b.margin));
@@ -76,6 +79,8 @@ std::string case_fingerprint(const Config& c) {
                          keyword(b.law), b.elastic_modulus, b.area_dilation, b.bending_modulus,
                          keyword(b.strain_velocity), b.surface_velocity_reach));
     }
+    if (c.contact.stiffness > 0)
+        line("contact.stiffness", fmt::format("{:.17g}", c.contact.stiffness));
     out += adhesion_fingerprint(c.adhesion);
     return out;
 }
@@ -356,6 +361,17 @@ Config read_config(toml::table& root, const std::filesystem::path& case_dir) {
                 throw InputError(
                     fmt::format("body[{}].mask_file = \"{}\": not a regular file", k, b.mask_file));
         }
+    if (!KeyCatalogue::instance().documenting) check_shape_keys(c.bodies);
+    c.seeding = expand_seeding(root, top, c.grid, periodic_directions(c.boundaries), c.bodies);
+    {
+        TableReader r = top.sub("contact", "short-range repulsion between bodies");
+        c.contact.stiffness =
+            r.number("stiffness", 0.0, Range::non_negative(), "Pa",
+                     "k of the pair force -k sum a_i grad(a_j) dV between bodies (a = phi "
+                     "dilated by one cell), spread over each body's volume; 0: no contact "
+                     "force (docs/method.md, \"Contact between bodies\")");
+        r.finish();
+    }
     c.vof = read_vof(top);
     c.adhesion = read_adhesion(top, c.grid, c.bodies);
     {
@@ -388,6 +404,10 @@ Config read_config(toml::table& root, const std::filesystem::path& case_dir) {
                     d, c.grid.cells[d]));
     }
     std::ostringstream os;
+    if (c.seeding.used)
+        os << fmt::format("# The [seeding] section (seed {}) was expanded into the [[body]] "
+                          "entries it placed:\n# {}\n",
+                          c.seeding.seed, c.seeding.message);
     os << root;
     c.resolved_toml = os.str();
     return c;

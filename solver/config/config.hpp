@@ -5,6 +5,7 @@
 #include "boundary/boundary.hpp"
 #include "config/adhesion_config.hpp"
 #include "config/body_config.hpp"
+#include "config/seeding_config.hpp"
 #include "core/types.hpp"
 #include "grid/grid.hpp"
 #include "linear/structured_solver.hpp"
@@ -54,6 +55,11 @@ struct StabilityConfig {
     real max_tensor_trace = 100;
 };
 
+/// Short-range repulsion between bodies (bodies/contact.hpp); stiffness 0: none.
+struct ContactConfig {
+    real stiffness = 0; ///< k [Pa] of F_ij = -k sum a_i grad a_j dV
+};
+
 struct Config {
     std::string name;
     std::string description;
@@ -70,7 +76,9 @@ struct Config {
     OutputConfig output;
     StabilityConfig stability;
     Int3 ranks{0, 0, 0};
-    std::vector<BodyConfig> bodies;
+    std::vector<BodyConfig> bodies; ///< given by hand, then those [seeding] placed
+    SeedingReport seeding;          ///< what [seeding] placed (used = false without it)
+    ContactConfig contact;
     VofConfig vof;
     AdhesionConfig adhesion;   ///< [adhesion]; enabled = false (and empty) without the table
     std::string resolved_toml; ///< the configuration with every default filled in

@@ -70,6 +70,15 @@ struct EvansFungCoefficients {
 std::unique_ptr<Shape> make_biconcave_disc(const Real3& centre,
                                            const Matrix3& rotation = identity_rotation(),
                                            const EvansFungCoefficients& c = {});
+/// The same disc with its exact signed distance as the level function (slower; for the
+/// smoothed interface of a membrane, whose tanh profile needs a distance).
+std::unique_ptr<Shape> make_biconcave_distance(const Real3& centre,
+                                               const Matrix3& rotation = identity_rotation(),
+                                               const EvansFungCoefficients& c = {});
+/// A vessel wall around a straight lumen: the region farther than `lumen_radius` from the
+/// line along x through `centre` (level r - dist(x, axis), a signed distance). Its volume
+/// is unbounded: exact_volume() returns NaN.
+std::unique_ptr<Shape> make_tube(const Real3& centre, real lumen_radius);
 /// Circular cylinder of radius r, infinite along body z (the disc of a 2D run).
 std::unique_ptr<Shape> make_cylinder(const Real3& centre, real radius,
                                      const Matrix3& rotation = identity_rotation());

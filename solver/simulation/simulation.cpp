@@ -450,6 +450,9 @@ void Simulation::log_start() {
                     dec_->ranks_per_dim()[2], cfg_.grid.cells[0], cfg_.grid.cells[1],
                     cfg_.grid.cells[2], cfg_.grid.dim, cfg_.grid.dx(0)));
     log(stepper_->solver_summary());
+    if (const SeedingReport& sr = cfg_.seeding; sr.used)
+        log(fmt::format("{}; haematocrit {:.4f} of the lumen of '{}' ({:.4g} m^3), gap {:.3g} m",
+                        sr.message, sr.achieved, sr.vessel, sr.lumen_volume, sr.gap));
     if (!body_limits_.empty()) {
         std::string limits;
         for (const TimeStepLimit& l : body_limits_)
@@ -583,6 +586,21 @@ void Simulation::write_summary(double wall_seconds, const std::string& status,
                           {"reference_area", b.reference_area}});
     j["bodies"] = bodies;
     if (adhesion_) j["adhesion"] = adhesion_record_.summary(*adhesion_);
+    if (const SeedingReport& sr = cfg_.seeding; sr.used) {
+        nlohmann::json placed = nlohmann::json::object();
+        for (const auto& [name, count] : sr.placed)
+            placed[name] = count;
+        j["seeding"] = {{"seed", sr.seed},
+                        {"vessel", sr.vessel},
+                        {"fill_kind", sr.fill_kind},
+                        {"target_haematocrit", sr.target},
+                        {"achieved_haematocrit", sr.achieved},
+                        {"lumen_volume", sr.lumen_volume},
+                        {"gap", sr.gap},
+                        {"candidates", sr.candidates},
+                        {"placed", placed},
+                        {"message", sr.message}};
+    }
     // Written aside and renamed: a failed write never leaves a truncated summary.
     const fs::path file = opt_.output_dir / "summary.json", tmp = file.string() + ".tmp";
     {

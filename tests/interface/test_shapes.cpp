@@ -106,6 +106,55 @@ TEST(Shapes, BiconcaveDiscIsTheRedCell) {
     EXPECT_LT(std::abs(f.volume - t->exact_volume()) / t->exact_volume(), 2e-3);
 }
 
+TEST(Shapes, BiconcaveDistanceIsTheSignedDistanceOfTheDisc) {
+    const real r0 = 3.91e-6, c0 = 0.207161;
+    const auto disc = make_biconcave_disc({0, 0, 0});
+    const auto s = make_biconcave_distance({0, 0, 0});
+    EXPECT_TRUE(s->level_bounds_distance());
+    EXPECT_DOUBLE_EQ(s->exact_volume(), disc->exact_volume());
+    // Beside the rim and just above the dimple the nearest point is known.
+    EXPECT_NEAR(s->level({r0 + 0.1 * r0, 0, 0}), 0.1 * r0, 1e-12 * r0);
+    EXPECT_NEAR(s->level({0, 0, 0.5 * r0 * c0 + 0.01 * r0}), 0.01 * r0, 1e-12 * r0);
+    EXPECT_NEAR(s->level({0, 0, 0.5 * r0 * c0 - 0.01 * r0}), -0.01 * r0, 1e-12 * r0);
+    // The same sign as the disc, and |grad L| = 1 (central differences) off the medial axis,
+    // for a tilted, shifted cell.
+    const Matrix3 rot = axis_angle_rotation({1, 0.3, -0.2}, 0.7);
+    const Real3 c{1e-6, -2e-6, 0.5e-6};
+    const auto sd = make_biconcave_distance(c, rot), sh = make_biconcave_disc(c, rot);
+    int n = 0;
+    for (int q = 0; q < 400; ++q) {
+        const Real3 x{c[0] + r0 * (1.4 * std::sin(1.3 * q)), c[1] + r0 * 1.4 * std::cos(0.7 * q),
+                      c[2] + r0 * 0.8 * std::sin(2.9 * q + 1)};
+        const real l = sd->level(x);
+        EXPECT_EQ(l < 0, sh->inside(x));
+        if (l < 0.05 * r0) continue; // outside only: no medial axis there
+        const real e = 1e-4 * r0;
+        real g2 = 0;
+        for (int d = 0; d < 3; ++d) {
+            Real3 xp = x, xm = x;
+            xp[d] += e;
+            xm[d] -= e;
+            g2 += std::pow((sd->level(xp) - sd->level(xm)) / (2 * e), 2);
+        }
+        EXPECT_NEAR(std::sqrt(g2), 1.0, 1e-5);
+        ++n;
+    }
+    EXPECT_GT(n, 100);
+}
+
+TEST(Shapes, TubeIsTheWallAroundALumenAlongX) {
+    const auto t = make_tube({0, 1.0, 2.0}, 0.5);
+    EXPECT_TRUE(t->level_bounds_distance());
+    EXPECT_NEAR(t->level({7.0, 1.0, 2.0}), 0.5, 1e-15);     // on the axis: in the lumen
+    EXPECT_NEAR(t->level({-3.0, 1.0, 2.75}), -0.25, 1e-15); // in the wall
+    EXPECT_FALSE(t->inside({0.0, 1.3, 2.3}));
+    // On an anisotropic grid, the wall's volume is the box minus the lumen's cylinder.
+    const GlobalGrid g = box_grid({6, 26, 22}, 1.0 / 20);
+    const auto w = make_tube({0.15, 0.65, 0.55}, 0.5);
+    const real wall = 0.3 * (1.3 * 1.1 - pi * 0.25);
+    EXPECT_LT(std::abs(fill_shape(*w, g).volume - wall) / wall, 2e-3);
+}
+
 TEST(Shapes, TwoDimensionalDiscArea) {
     // dim = 2: a cylinder (or sphere through its centre) gives a disc; measure per unit depth.
     const real h = 1.0 / 64;
