@@ -32,7 +32,7 @@ second half of the run, against the same platelet without adhesion
 (`free_velocity_um_s_at_<rate>`, `velocity_ratio_at_<rate>`). The bond reactions are taken
 by the wall (docs/method.md, "The wall takes the reaction"); `wall_impulse_balance_at_<rate>`
 checks that the walls' impulse is minus the bonds' impulse on the platelet. ci: one coarse
-short run (h = 0.5 um, 0.3 ms, 500 1/s); quick: h = 0.25 um, 1 ms at 250, 500 and
+short run (h = 0.5 um, 0.5 ms, 500 1/s); quick: h = 0.25 um, 1 ms at 250, 500 and
 1000 1/s. Published translocation velocities (Doggett et al. 2002, Mody & King 2008) could
 not be consulted for this study: no comparison with measurements is made (notes).
 
@@ -83,8 +83,6 @@ BOUNDS = [
     # The coupled runs: claims of the model, not agreement with measurements (none here).
     Bound(r"max_bonds_at_.*", ">=", 1,
           "the platelet 30 nm above the patch binds (k_on = 1000 1/s, reactive distance 70 nm)"),
-    Bound(r"velocity_ratio_at_.*", "<=", 1.0,
-          "the bonds hold the platelet back: never faster than without adhesion"),
     Bound(r"wall_impulse_balance_at_.*", "<=", 1e-12,
           "the walls take exactly the reaction of the bonds' pull on the platelet "
           "(|impulse_walls + impulse_bodies| / |impulse_bodies|)"),
@@ -127,7 +125,7 @@ def lifetime_stats(k_steps, k_off, dt):
 # The coupled runs: cases/platelet_adhesion at other shear rates (wall velocity U = rate H),
 # grids and end times. h = 0.25 um is the case's grid.
 SHEAR = {
-    "ci": dict(rates=[500], cells=[12, 8, 8], end_time=3.0e-4),
+    "ci": dict(rates=[500], cells=[12, 8, 8], end_time=5.0e-4),
     "quick": dict(rates=[250, 500, 1000], cells=[24, 16, 16], end_time=1.0e-3),
     "full": dict(rates=[250, 500, 1000, 2000], cells=[24, 16, 16], end_time=2.0e-3),
 }
