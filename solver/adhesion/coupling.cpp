@@ -41,6 +41,7 @@ Coupling::Coupling(const AdhesionConfig& config, const std::vector<BodyConfig>& 
     limits_.kernel_mass = density * g.cell_volume();
     limits_.kernel_drag = 6 * std::numbers::pi * viscosity * limits_.h;
     ligands_ = LigandSet::from_regions(config.ligand_regions, p_.reactive_distance);
+    anchor({{{true, true}, {true, true}, {true, true}}}, nullptr, false);
 
     std::uint64_t next_id = 0;
     for (const ReceptorGroupConfig& group : config.receptors) {
@@ -72,6 +73,54 @@ Coupling::Coupling(const AdhesionConfig& config, const std::vector<BodyConfig>& 
     x_.reserve(receptors_.size());
     v_.reserve(receptors_.size());
     work_.reserve(receptors_.size());
+}
+
+void Coupling::anchor(const std::array<std::array<bool, 2>, 3>& no_slip,
+                      const VelocityField* pinning) {
+    anchor(no_slip, pinning, true);
+}
+
+void Coupling::anchor(const std::array<std::array<bool, 2>, 3>& no_slip,
+                      const VelocityField* pinning, bool strict) {
+    if (!active_) return;
+    const GlobalGrid& g = dec_->grid();
+    pinning_ = pinning;
+    anchor_.assign(ligands_.size(), LigandAnchor::none);
+    std::vector<std::uint64_t> off_wall;
+    for (std::uint64_t id = 0; id < ligands_.size(); ++id) {
+        const Real3& y = ligands_.position(id);
+        for (int a = 0; a < 3; ++a) {
+            if (dec_->periodic()[a]) continue;
+            const real tol = 0.5 * g.dx(a);
+            if ((no_slip[a][0] && y[a] - g.origin[a] <= tol) ||
+                (no_slip[a][1] && g.origin[a] + g.length[a] - y[a] <= tol))
+                anchor_[id] = LigandAnchor::domain_wall;
+        }
+        if (anchor_[id] == LigandAnchor::none) off_wall.push_back(id);
+    }
+    if (off_wall.empty()) return;
+    std::vector<real> share(off_wall.size(), 0.0);
+    if (pinning) {
+        std::vector<Real3> x(off_wall.size());
+        for (std::size_t k = 0; k < off_wall.size(); ++k)
+            x[k] = ligands_.position(off_wall[k]);
+        held_spreader_.held_share(*pinning, *dec_, x, share);
+    }
+    for (std::size_t k = 0; k < off_wall.size(); ++k) {
+        if (share[k] >= min_held_share) {
+            anchor_[off_wall[k]] = LigandAnchor::held_body;
+            continue;
+        }
+        if (!strict) continue;
+        const std::uint64_t id = off_wall[k];
+        throw InputError(fmt::format(
+            "adhesion.ligand_regions[{}]: ligand {} at {} is neither within half a cell of a "
+            "no-slip wall of the domain nor on a pinned solid (held share of its kernel {:.3g} "
+            "< {:g}): a vWF ligand is anchored to the vessel wall, which must take the bond's "
+            "reaction (docs/method.md, \"The wall takes the reaction\")",
+            ligands_.region_of(id), id, point_text(ligands_.position(id)), share[k],
+            min_held_share));
+    }
 }
 
 Real3 Coupling::canonical(Real3 x) const {
@@ -181,6 +230,9 @@ void Coupling::report_unstable_body(const BodyReceptors& b, real dt, real number
 void Coupling::add_bond_forces(VelocityField& force, real dt) {
     stats_.bonds_spread = stats_.face_writes = 0;
     stats_.max_tension = 0;
+    stats_.force_on_bodies = stats_.reaction_on_walls = stats_.reaction_on_held = {0, 0, 0};
+    held_x_.clear();
+    held_f_.clear();
     if (!active_) return;
     if (!(dt > 0) || !std::isfinite(dt))
         throw RunError(fmt::format("adhesion: time step dt = {:g} s must be positive", dt));
@@ -222,11 +274,35 @@ void Coupling::add_bond_forces(VelocityField& force, real dt) {
         }
         for (const BondLoad& l : loads_) {
             stats_.face_writes += spread_force(force, *dec_, l.receptor_x, l.force.on_receptor);
-            stats_.face_writes += spread_force(force, *dec_, l.ligand_x, l.force.on_ligand);
+            for (int a = 0; a < 3; ++a)
+                stats_.force_on_bodies[a] += l.force.on_receptor[a];
+            // The reaction: taken by the wall the ligand is anchored to.
+            switch (anchor_[l.ligand]) {
+            case LigandAnchor::domain_wall:
+                for (int a = 0; a < 3; ++a)
+                    stats_.reaction_on_walls[a] += l.force.on_ligand[a];
+                break;
+            case LigandAnchor::held_body:
+                held_x_.push_back(l.ligand_x);
+                held_f_.push_back(l.force.on_ligand);
+                for (int a = 0; a < 3; ++a)
+                    stats_.reaction_on_held[a] += l.force.on_ligand[a];
+                break;
+            case LigandAnchor::none:
+                throw RunError(fmt::format(
+                    "adhesion: receptor {} (body '{}') is bound to ligand {} at {}, which is "
+                    "anchored to no wall (Coupling::anchor was not given a wall or a pinned "
+                    "solid there): its bond's reaction has nowhere to go",
+                    l.receptor, b.name, l.ligand, point_text(l.ligand_x)));
+            }
             stats_.max_tension = std::max(stats_.max_tension, std::abs(l.force.tension));
             ++stats_.bonds_spread;
         }
     }
+    // Every rank holds the same bonds, so every rank makes this collective call or none.
+    if (!held_x_.empty())
+        stats_.face_writes +=
+            held_spreader_.spread(force, *pinning_, *dec_, held_x_, held_f_, min_held_share);
 }
 
 void Coupling::kinetics(real dt, std::uint64_t step) {

@@ -2,8 +2,12 @@
 // the flow"): GPIb-alpha receptors on the surfaces of the bodies named in
 // [[adhesion.receptors]], carried with the flow; vWF ligands on the wall boxes of
 // [[adhesion.ligand_regions]]; the kinetic Monte Carlo of kinetics.hpp between them; each
-// bond's spring force spread onto the face force field at the receptor and, opposite, at
-// the ligand (grid_transfer.hpp), so the momentum added is zero to round-off.
+// bond's spring force spread onto the face force field at the receptor; its reaction, -F,
+// taken by the wall the ligand is anchored to (docs/method.md, "The wall takes the
+// reaction"): a ligand on a no-slip wall of the domain gives it to the boundary (nothing
+// goes into the fluid), a ligand on a pinned solid spreads it onto that solid's held faces
+// (grid_transfer.hpp, HeldSpreader), where the pinning absorbs it. The force on the bodies
+// and the reaction on the walls are summed every step (stats(): equal and opposite).
 //
 // Where it goes in a time step of length dt (the time-step loop calls, in this order):
 //   1. dt = min(other limits, time.cfl * stable_time_step())   when choosing dt
@@ -45,6 +49,8 @@
 #include "config/body_config.hpp"
 
 #include <algorithm>
+#include <array>
+#include <cstdint>
 #include <limits>
 #include <optional>
 #include <span>
@@ -71,6 +77,9 @@ struct CouplingStats {
     std::size_t bonds_spread = 0; ///< bonds whose forces went to the grid
     std::size_t face_writes = 0;  ///< face values written on this rank (work counter)
     real max_tension = 0;         ///< largest |sigma (l - lambda)| [N]
+    Real3 force_on_bodies{};      ///< sum of the bonds' forces on the receptors [N]
+    Real3 reaction_on_walls{};    ///< sum of -F taken by no-slip walls of the domain [N]
+    Real3 reaction_on_held{};     ///< sum of -F spread onto pinned (held) solids [N]
     // advance
     std::size_t bodies_near = 0;    ///< bodies that got kinetics
     std::size_t bodies_skipped = 0; ///< bodies the skip test left alone
@@ -88,6 +97,13 @@ struct SpringLimits {
     static real stable_dt(real k, real m, real z);
 };
 
+/// What a ligand is anchored to (Coupling::anchor).
+enum class LigandAnchor : std::uint8_t {
+    domain_wall, ///< within half a cell of a no-slip wall of the domain: the boundary takes -F
+    held_body,   ///< on a pinned solid: -F spread onto its held faces
+    none         ///< not (yet) known to be on a wall: a bond to it stops the run
+};
+
 class Coupling {
   public:
     /// Places the receptors and ligands (nothing at all when !config.enabled). `bodies` are
@@ -99,13 +115,25 @@ class Coupling {
 
     bool active() const { return active_; }
 
+    /// Decides what each ligand is anchored to: a no-slip wall of the domain (bc type wall)
+    /// within half a cell, else a pinned solid whose held faces (`pinning`, K = dt chi / tau
+    /// on the faces, or null without pinned solids) carry at least min_held_share of its
+    /// kernel. Throws InputError naming adhesion.ligand_regions[i] when one of its ligands
+    /// is on neither. Collective. The constructor assumes every non-periodic boundary is a
+    /// no-slip wall and leaves the other ligands `none`, until this is called.
+    void anchor(const std::array<std::array<bool, 2>, 3>& no_slip, const VelocityField* pinning);
+    LigandAnchor anchor_of(std::uint64_t ligand) const { return anchor_[ligand]; }
+    static constexpr real min_held_share = 0.25;
+
     /// The largest dt the current bonds allow (infinity without bonds): the explicit spring
     /// limit of every body with bonds and of a single bond on its kernel. The time step
     /// control multiplies it by time.cfl like its other limits.
     real stable_time_step() const;
 
     /// Adds every bond's force (positions at the start of the step) to `force` [N/m^3]:
-    /// +F at the receptor, -F at the ligand. Throws RunError naming the body (and its most
+    /// +F at the receptor; -F to the ligand's wall (nothing in `force` for a domain wall,
+    /// the held faces of a pinned solid; see anchor). Throws RunError for a bond to a
+    /// ligand anchored to nothing. Throws RunError naming the body (and its most
     /// loaded bond) when its bonds make the explicit springs unstable at this dt, or naming
     /// the bond (receptor, ligand, positions, force) when a bond's force would move its
     /// receptor more than max_step_displacement cells in one step.
@@ -129,6 +157,8 @@ class Coupling {
     void carry(const VelocityField& u, real dt);
 
   private:
+    void anchor(const std::array<std::array<bool, 2>, 3>& no_slip, const VelocityField* pinning,
+                bool strict);
     void kinetics(real dt, std::uint64_t step);
     void update_bounds(BodyReceptors& b);
     /// x wrapped into the domain along the periodic directions.
@@ -152,6 +182,10 @@ class Coupling {
     std::vector<BodyReceptors> bodies_;
     SpringLimits limits_;
     VelocityInterpolator interpolator_;
+    HeldSpreader held_spreader_;
+    const VelocityField* pinning_ = nullptr;
+    std::vector<LigandAnchor> anchor_;
+    std::vector<Real3> held_x_, held_f_;
     std::vector<Real3> x_, v_;
     std::vector<Receptor> work_;
     std::vector<Proposal> proposals_;

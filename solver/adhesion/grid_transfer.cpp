@@ -6,6 +6,7 @@
 
 #include <array>
 #include <cmath>
+#include <limits>
 
 namespace efsi::adhesion {
 
@@ -128,6 +129,132 @@ std::size_t spread_force(VelocityField& force, const Decomposition& dec, const R
                 }
             }
     }
+    return written;
+}
+
+namespace {
+
+/// The 4 global indices of the kernel along axis a for component c at grid coordinate s,
+/// with phi4 weights (0 for points a force may not go to), not renormalised.
+struct Stencil {
+    std::array<int, 4> i{};
+    std::array<real, 4> w{};
+};
+
+Stencil kernel_axis(const Decomposition& dec, real s, int c, int a) {
+    const GlobalGrid& g = dec.grid();
+    const bool periodic = dec.periodic()[a];
+    const int first = (a == c) ? 1 : 0, last = g.cells[a] - 1;
+    const int base = static_cast<int>(std::floor(s)) - 1;
+    Stencil out;
+    for (int q = 0; q < 4; ++q) {
+        int i = base + q;
+        if (!periodic && (i < first || i > last)) {
+            out.i[q] = -1;
+            continue;
+        }
+        out.w[q] = peskin4(s - i);
+        if (periodic) i = wrap(i, g.cells[a]);
+        out.i[q] = i;
+    }
+    return out;
+}
+
+} // namespace
+
+void HeldSpreader::gather(const VelocityField& pinning, const Decomposition& dec,
+                          std::span<const Real3> x) {
+    const GlobalGrid& g = dec.grid();
+    const LocalBlock& b = dec.block();
+    w_.assign(x.size() * 3 * 64, 0.0);
+    for (std::size_t p = 0; p < x.size(); ++p) {
+        if (!inside_walls(dec, x[p]))
+            throw RunError(fmt::format("adhesion: a bond's wall reaction acts at {}, outside the "
+                                       "domain",
+                                       point_text(x[p])));
+        for (int c = 0; c < 3; ++c) {
+            std::array<Stencil, 3> st;
+            for (int a = 0; a < 3; ++a)
+                st[a] = kernel_axis(dec, grid_coordinate(g, x[p], c, a), c, a);
+            real* slot = &w_[(p * 3 + c) * 64];
+            for (int r = 0; r < 4; ++r)
+                for (int q = 0; q < 4; ++q)
+                    for (int o = 0; o < 4; ++o) {
+                        const std::array<int, 3> gi{st[0].i[o], st[1].i[q], st[2].i[r]};
+                        Int3 local{};
+                        bool owned = true;
+                        for (int a = 0; a < 3; ++a) {
+                            local[a] = gi[a] - b.offset[a];
+                            owned = owned && gi[a] >= 0 && local[a] >= 0 && local[a] < b.cells[a];
+                        }
+                        if (!owned) continue;
+                        const real k = pinning[c](local[0], local[1], local[2]);
+                        const real held = k > 0 ? k / (1 + k) : 0.0;
+                        slot[o + 4 * q + 16 * r] = st[0].w[o] * st[1].w[q] * st[2].w[r] * held;
+                    }
+        }
+    }
+    if (dec.size() > 1) dec.sum_in_place(w_);
+}
+
+void HeldSpreader::held_share(const VelocityField& pinning, const Decomposition& dec,
+                              std::span<const Real3> x, std::vector<real>& share) {
+    gather(pinning, dec, x);
+    share.assign(x.size(), 0.0);
+    for (std::size_t p = 0; p < x.size(); ++p) {
+        real least = std::numeric_limits<real>::infinity();
+        for (int c = 0; c < 3; ++c) {
+            real total = 0;
+            for (int q = 0; q < 64; ++q)
+                total += w_[(p * 3 + c) * 64 + q];
+            least = std::min(least, total);
+        }
+        share[p] = least;
+    }
+}
+
+std::size_t HeldSpreader::spread(VelocityField& force, const VelocityField& pinning,
+                                 const Decomposition& dec, std::span<const Real3> x,
+                                 std::span<const Real3> F, real min_share) {
+    gather(pinning, dec, x);
+    const GlobalGrid& g = dec.grid();
+    const LocalBlock& b = dec.block();
+    const real volume = g.cell_volume();
+    std::size_t written = 0;
+    for (std::size_t p = 0; p < x.size(); ++p)
+        for (int c = 0; c < 3; ++c) {
+            const real* slot = &w_[(p * 3 + c) * 64];
+            real total = 0;
+            for (int q = 0; q < 64; ++q)
+                total += slot[q];
+            if (!(total >= min_share))
+                throw RunError(fmt::format(
+                    "adhesion: a bond's wall reaction at {} finds a held (pinned) share of only "
+                    "{:.3g} of its kernel for component {} (need >= {:g}): the ligand is not on "
+                    "a fixed wall body",
+                    point_text(x[p]), total, "xyz"[c], min_share));
+            if (F[p][c] == 0) continue;
+            std::array<Stencil, 3> st;
+            for (int a = 0; a < 3; ++a)
+                st[a] = kernel_axis(dec, grid_coordinate(g, x[p], c, a), c, a);
+            const real density = F[p][c] / (volume * total);
+            for (int r = 0; r < 4; ++r)
+                for (int q = 0; q < 4; ++q)
+                    for (int o = 0; o < 4; ++o) {
+                        const real w = slot[o + 4 * q + 16 * r];
+                        if (w == 0) continue;
+                        const std::array<int, 3> gi{st[0].i[o], st[1].i[q], st[2].i[r]};
+                        Int3 local{};
+                        bool owned = true;
+                        for (int a = 0; a < 3; ++a) {
+                            local[a] = gi[a] - b.offset[a];
+                            owned = owned && local[a] >= 0 && local[a] < b.cells[a];
+                        }
+                        if (!owned) continue;
+                        force[c](local[0], local[1], local[2]) += w * density;
+                        ++written;
+                    }
+        }
     return written;
 }
 

@@ -53,6 +53,35 @@ real peskin4(real r);
 std::size_t spread_force(VelocityField& force, const Decomposition& dec, const Real3& x,
                          const Real3& F);
 
+/// Spreading onto a held (pinned) wall body: the reaction of a bond whose ligand sits on a
+/// fixed solid goes onto that solid's faces, where the pinning removes it, not into the
+/// fluid next to it (docs/method.md, "The wall takes the reaction"). The weight of face f is
+/// phi4(x - x_f) * held_f, held_f = K_f / (1 + K_f) the fraction of a face's velocity the
+/// pinning K = dt chi / tau removes each step, renormalised over the kernel to sum to one:
+/// the force still integrates to F exactly. Faces beyond a wall (or a wall's own normal
+/// face) take nothing, as in spread_force.
+///
+/// Ranks: the 64 weights per point and component are gathered (each written by the rank
+/// that owns the face, exact zeros elsewhere, one element-wise sum) and every rank
+/// normalises them in the same order, so the field is the same bits for any rank count.
+/// Collective: every rank calls with the same points.
+class HeldSpreader {
+  public:
+    /// share[p] = the smallest over the components of sum_f phi4 * held_f at x[p]: 1 deep
+    /// inside a held body, about 1/2 on its surface, 0 in the fluid.
+    void held_share(const VelocityField& pinning, const Decomposition& dec,
+                    std::span<const Real3> x, std::vector<real>& share);
+    /// Adds F[p] at x[p] onto the held faces (weights above). Throws RunError naming the point
+    /// when some component's held share is below `min_share` (nowhere to put it). Returns
+    /// the number of face values written on this rank.
+    std::size_t spread(VelocityField& force, const VelocityField& pinning, const Decomposition& dec,
+                       std::span<const Real3> x, std::span<const Real3> F, real min_share);
+
+  private:
+    void gather(const VelocityField& pinning, const Decomposition& dec, std::span<const Real3> x);
+    std::vector<real> w_; ///< 64 weights per point and component, summed over ranks
+};
+
 class VelocityInterpolator {
   public:
     /// out[p] = the trilinear interpolation of the staggered velocity `u` at x[p], the same

@@ -104,6 +104,7 @@ LigandSet LigandSet::from_regions(std::span<const LigandRegion> regions, real ce
                     s.x_.push_back(y);
                 }
         s.boxes_.emplace_back(r.lo, r.hi);
+        s.region_end_.push_back(s.x_.size());
     }
     s.build_index(cell);
     return s;

@@ -78,6 +78,13 @@ class LigandSet {
     template <class F>
     void for_each_within(const Real3& x, real d, F&& f) const;
 
+    /// The index of the region (in the order given to from_regions) that holds ligand `id`;
+    /// 0 for a set made from_sites.
+    std::size_t region_of(std::uint64_t id) const {
+        return static_cast<std::size_t>(
+            std::upper_bound(region_end_.begin(), region_end_.end(), id) - region_end_.begin());
+    }
+
     /// Region boxes of the skip test.
     std::span<const std::pair<Real3, Real3>> boxes() const { return boxes_; }
 
@@ -88,6 +95,7 @@ class LigandSet {
     std::vector<Real3> x_;
     std::vector<std::uint64_t> bound_;
     std::vector<std::pair<Real3, Real3>> boxes_;
+    std::vector<std::uint64_t> region_end_; ///< one past the last site of each region
     // Uniform grid over the sites' bounding box: keys_ sorted, order_[k] the site of keys_[k].
     real cell_ = 0;
     Real3 origin_{};

@@ -87,8 +87,10 @@ AdhesionConfig read_adhesion(TableReader& top, const GlobalGrid& grid,
         r.number("max_step_displacement", 0.5, Range{0, 1, true}, "cells",
                  "a bond whose force would move its receptor farther than this in one step stops "
                  "the run (the per-bond force limit, docs/method.md)");
-    for (TableReader& t : r.tables("ligand_regions", "vWF ligands on a wall box (a patch on a "
-                                                     "wall is a box of zero thickness)")) {
+    for (TableReader& t : r.tables(
+             "ligand_regions", "vWF ligands on a wall box (a patch on a wall is a box of zero "
+                               "thickness): within half a cell of a no-slip wall of the "
+                               "domain, or on a pinned solid, which take the bonds' reaction")) {
         adhesion::LigandRegion region;
         region.lo = t.vector3("lo", std::nullopt, Range{}, "m", "low corner of the box");
         region.hi = t.vector3("hi", std::nullopt, Range{}, "m", "high corner of the box");

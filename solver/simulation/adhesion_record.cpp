@@ -9,11 +9,19 @@
 namespace efsi {
 
 const char* AdhesionRecord::csv_header() {
-    return "step,time,bonds,formed,broken,free_near,bodies_near,max_tension,time_step_limit";
+    return "step,time,bonds,formed,broken,free_near,bodies_near,max_tension,time_step_limit,"
+           "force_bodies_x,force_bodies_y,force_bodies_z,reaction_walls_x,reaction_walls_y,"
+           "reaction_walls_z,reaction_held_x,reaction_held_y,reaction_held_z";
 }
 
-void AdhesionRecord::after_forces(const adhesion::Coupling& c) {
-    max_tension_ = std::max(max_tension_, c.stats().max_tension);
+void AdhesionRecord::after_forces(const adhesion::Coupling& c, real dt) {
+    const adhesion::CouplingStats& s = c.stats();
+    max_tension_ = std::max(max_tension_, s.max_tension);
+    for (int a = 0; a < 3; ++a) {
+        impulse_bodies_[a] += s.force_on_bodies[a] * dt;
+        impulse_walls_[a] += s.reaction_on_walls[a] * dt;
+        impulse_held_[a] += s.reaction_on_held[a] * dt;
+    }
 }
 
 void AdhesionRecord::after_advance(const adhesion::Coupling& c, real time) {
@@ -36,9 +44,13 @@ bool AdhesionRecord::append_row(const std::filesystem::path& file, const adhesio
             near += b.near ? 1 : 0;
         const real limit = c.stable_time_step();
         std::ofstream out(file, std::ios::app);
-        out << fmt::format("{},{:.10e},{},{},{},{},{},{:.6e},{:.6e}\n", step, time, c.bond_count(),
-                           formed_, broken_, c.stats().kinetics.examined, near,
-                           c.stats().max_tension, std::isfinite(limit) ? limit : 0.0);
+        const adhesion::CouplingStats& s = c.stats();
+        out << fmt::format("{},{:.10e},{},{},{},{},{},{:.6e},{:.6e}", step, time, c.bond_count(),
+                           formed_, broken_, s.kinetics.examined, near, s.max_tension,
+                           std::isfinite(limit) ? limit : 0.0);
+        for (const Real3* v : {&s.force_on_bodies, &s.reaction_on_walls, &s.reaction_on_held})
+            out << fmt::format(",{:.10e},{:.10e},{:.10e}", (*v)[0], (*v)[1], (*v)[2]);
+        out << "\n";
         out.close();
         ok = static_cast<bool>(out);
     }
@@ -50,16 +62,25 @@ nlohmann::json AdhesionRecord::summary(const adhesion::Coupling& c) const {
     nlohmann::json per_body = nlohmann::json::object();
     for (const adhesion::BodyReceptors& b : c.bodies())
         per_body[b.name] = {{"receptors", b.end - b.begin}, {"bonds", b.bonds}};
-    return {{"receptors", c.receptors().size()},
-            {"ligands", c.ligands().size()},
-            {"bonds", c.bond_count()},
-            {"max_bonds", max_bonds_},
-            {"bonds_formed", total_formed_},
-            {"bonds_broken", total_broken_},
-            {"first_bond_time",
-             first_bond_time_ < 0 ? nlohmann::json(nullptr) : nlohmann::json(first_bond_time_)},
-            {"max_tension", max_tension_},
-            {"bodies", per_body}};
+    const adhesion::CouplingStats& s = c.stats();
+    return {
+        {"receptors", c.receptors().size()},
+        {"ligands", c.ligands().size()},
+        {"bonds", c.bond_count()},
+        {"max_bonds", max_bonds_},
+        {"bonds_formed", total_formed_},
+        {"bonds_broken", total_broken_},
+        {"first_bond_time",
+         first_bond_time_ < 0 ? nlohmann::json(nullptr) : nlohmann::json(first_bond_time_)},
+        {"max_tension", max_tension_},
+        {"force_on_bodies", {s.force_on_bodies[0], s.force_on_bodies[1], s.force_on_bodies[2]}},
+        {"reaction_on_walls",
+         {s.reaction_on_walls[0], s.reaction_on_walls[1], s.reaction_on_walls[2]}},
+        {"reaction_on_held", {s.reaction_on_held[0], s.reaction_on_held[1], s.reaction_on_held[2]}},
+        {"impulse_on_bodies", {impulse_bodies_[0], impulse_bodies_[1], impulse_bodies_[2]}},
+        {"impulse_on_walls", {impulse_walls_[0], impulse_walls_[1], impulse_walls_[2]}},
+        {"impulse_on_held", {impulse_held_[0], impulse_held_[1], impulse_held_[2]}},
+        {"bodies", per_body}};
 }
 
 } // namespace efsi

@@ -16,8 +16,9 @@ namespace efsi {
 class AdhesionRecord {
   public:
     static const char* csv_header();
-    /// After the step's add_bond_forces: the largest tension so far.
-    void after_forces(const adhesion::Coupling& c);
+    /// After the step's add_bond_forces (step length dt): the largest tension so far, the
+    /// impulses of the bonds on the bodies and of their reactions on the walls.
+    void after_forces(const adhesion::Coupling& c, real dt);
     /// After the step's advance (`time` at the end of the step): bonds formed and broken.
     void after_advance(const adhesion::Coupling& c, real time);
     /// The named limit's value this step [s] (finite: bonds are held).
@@ -36,6 +37,7 @@ class AdhesionRecord {
     real first_bond_time_ = -1; ///< end of the step that formed the first bond [s]
     real smallest_limit_ = std::numeric_limits<real>::infinity(); ///< [s]
     real max_tension_ = 0;                                        ///< [N]
+    Real3 impulse_bodies_{}, impulse_walls_{}, impulse_held_{};   ///< sum of F dt [N s]
 };
 
 } // namespace efsi

@@ -144,6 +144,15 @@ Simulation::Simulation(const Config& config, const RunOptions& options, MPI_Comm
     halos_->fill(state_->u);
     stepper_ = std::make_unique<SmacStepper>(cfg_, *dec_, *halos_);
     build_pinning();
+    // Each ligand's wall (docs/method.md, "The wall takes the reaction"): a no-slip wall of
+    // the domain, or a pinned solid's held faces; a ligand on neither is an input error.
+    if (adhesion_) {
+        std::array<std::array<bool, 2>, 3> no_slip{};
+        for (int a = 0; a < 3; ++a)
+            for (int side = 0; side < 2; ++side)
+                no_slip[a][side] = cfg_.boundaries[a][side].type == BoundaryType::Wall;
+        adhesion_->anchor(no_slip, pinning_.get());
+    }
 
     if (dec_->rank() == 0) {
         fs::create_directories(opt_.output_dir);
@@ -182,13 +191,13 @@ void Simulation::apply_body_stresses(real dt) {
             (*force_)[c].fill(0);
     if (!adhesion_) return;
     // The bonds' spring forces, from the positions at the start of the step: +F at the
-    // receptor, -F at the ligand (docs/method.md, "Bond force to the continuum").
+    // receptor, -F to the ligand's wall (docs/method.md, "The wall takes the reaction").
     try {
         adhesion_->add_bond_forces(*force_, dt);
     } catch (const RunError& e) {
         throw RunError(unstable_message(e.what()));
     }
-    adhesion_record_.after_forces(*adhesion_);
+    adhesion_record_.after_forces(*adhesion_, dt);
 }
 
 void Simulation::advance_bodies(real dt) {
