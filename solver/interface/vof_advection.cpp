@@ -7,6 +7,7 @@
 
 #include <algorithm>
 #include <cmath>
+#include <cstddef>
 
 namespace efsi {
 
@@ -90,6 +91,55 @@ real face_flux(const Field& phi, const VofOptions& opt, int dim, int d, const In
     return positive ? v : -v;
 }
 
+/// Distance in memory between neighbours along d (0, 1, 2) of a field's values.
+std::ptrdiff_t stride(const Field& f, int d) {
+    const Int3& e = f.extent();
+    return d == 0 ? 1 : d == 1 ? std::ptrdiff_t(e[0]) : std::ptrdiff_t(e[0]) * e[1];
+}
+
+/// youngs_gradient as a table over the 3^dim block: for each point in the same order,
+/// the memory offset and, for each direction whose offset is not 0, its weight (the
+/// accumulation into each component then runs in the same order as there).
+struct YoungsStencil {
+    struct Term {
+        std::ptrdiff_t off;
+        int d;
+        real w;
+    };
+    Term terms[54];
+    int count = 0;
+
+    YoungsStencil(const Field& phi, int dim) {
+        const std::ptrdiff_t s[3] = {stride(phi, 0), stride(phi, 1), stride(phi, 2)};
+        int npts = 1;
+        for (int e = 0; e < dim; ++e)
+            npts *= 3;
+        for (int q = 0; q < npts; ++q) {
+            Int3 o{0, 0, 0};
+            int code = q;
+            for (int e = 0; e < dim; ++e, code /= 3)
+                o[e] = code % 3 - 1;
+            std::ptrdiff_t off = 0;
+            for (int e = 0; e < dim; ++e)
+                off += o[e] * s[e];
+            for (int d = 0; d < dim; ++d) {
+                if (o[d] == 0) continue;
+                real w = 0.5 * o[d];
+                for (int e = 0; e < dim; ++e)
+                    if (e != d) w *= (o[e] == 0 ? 0.5 : 0.25);
+                terms[count++] = {off, d, w};
+            }
+        }
+    }
+
+    Real3 gradient(const real* p) const {
+        Real3 g{0, 0, 0};
+        for (int t = 0; t < count; ++t)
+            g[terms[t].d] += terms[t].w * p[terms[t].off];
+        return g;
+    }
+};
+
 } // namespace
 
 VofAdvection::VofAdvection(const HaloFiller& halos, const VofOptions& options)
@@ -98,6 +148,113 @@ VofAdvection::VofAdvection(const HaloFiller& halos, const VofOptions& options)
         throw InputError("vof: beta must be positive");
     if (!(opt_.epsilon > 0 && opt_.epsilon < 0.5))
         throw InputError("vof: epsilon must be in (0, 1/2)");
+}
+
+void VofAdvection::sweep_rows(Field& phi, const VelocityField& u, real dt, int d,
+                              const Patch* patch, VofStepStats& local) {
+    const Decomposition& dec = halos_.decomposition();
+    const int dim = dec.dim();
+    const real r = dt / dec.grid().dx(d);
+    const Box cells = phi.owned();
+    const Field& ud = u[d];
+    // flux_ and chi_ have phi's layout (same box and halos), so one index serves all three.
+    const std::ptrdiff_t sp = stride(phi, d), su = stride(ud, d);
+    const int n = cells.hi[d] - cells.lo[d];
+    const bool closed_lo = patch && !patch->exchange[d][0];
+    const bool closed_hi = patch && !patch->exchange[d][1];
+    const real eps = opt_.epsilon;
+    const YoungsStencil youngs(phi, dim);
+    real* const phi0 = phi.data().data();
+    real* const flux0 = flux_.data().data();
+    const real* const chi0 = chi_.data().data();
+    const real* const u0 = ud.data().data();
+
+    // Fluxes G on the faces 0..n of each row along d (face m is the low face of cell m;
+    // face n the low face of the first cell past the box), as face_flux computes them.
+    real max_courant = local.max_courant;
+    Box rows = cells;
+    rows.hi[d] = rows.lo[d] + 1;
+    for_each_in(rows, [&](int i, int j, int k) {
+        const real* ph = phi0 + phi.index(i, j, k);
+        const real* uf = u0 + ud.index(i, j, k);
+        real* fl = flux0 + flux_.index(i, j, k);
+        for (int m = 0; m <= n; ++m) {
+            const real c = uf[m * su] * r;
+            max_courant = std::max(max_courant, std::abs(c));
+            real G = 0;
+            // No flux through the edge of a body's patch (see sweep), none for c = 0.
+            const bool closed = (m == 0 && closed_lo) || (m == n && closed_hi);
+            if (!closed && c != 0) {
+                const bool positive = c > 0;
+                const real* up = ph + std::ptrdiff_t(positive ? m - 1 : m) * sp;
+                const real f = *up;
+                if (f <= eps)
+                    G = 0;
+                else if (f >= 1 - eps)
+                    G = c * f;
+                else if (opt_.scheme == VofScheme::Thinc1D) {
+                    const real fm = up[-sp], fp = up[sp];
+                    if ((fp - f) * (f - fm) <= 0)
+                        G = c * f;
+                    else {
+                        const real a = std::abs(c);
+                        const Thinc1D h =
+                            thinc1d_reconstruct(f, fp > fm ? 1.0 : -1.0, opt_.beta_thinc);
+                        const real v =
+                            positive ? thinc1d_integral(h, 1 - a, 1) : thinc1d_integral(h, 0, a);
+                        G = positive ? v : -v;
+                    }
+                } else {
+                    const Real3 grad = youngs.gradient(up);
+                    real g2 = 0;
+                    for (int e = 0; e < dim; ++e)
+                        g2 += grad[e] * grad[e];
+                    if (g2 < 1e-24)
+                        G = c * f;
+                    else {
+                        const real v = mthinc_slab_integral(f, grad, opt_.beta_mthinc, dim, d,
+                                                            std::abs(c), positive);
+                        G = positive ? v : -v;
+                    }
+                }
+            }
+            fl[m * sp] = G;
+        }
+    });
+    local.max_courant = max_courant;
+
+    // The update, in sweep's cell order (x fastest), so that the statistics add up alike.
+    const Box& b = cells;
+    real lo_v = local.min_before_clip, hi_v = local.max_before_clip;
+    real clipped_sum = local.clipped_volume;
+    const bool clip = opt_.clip;
+    for (int k = b.lo[2]; k < b.hi[2]; ++k)
+        for (int j = b.lo[1]; j < b.hi[1]; ++j) {
+            real* ph = phi0 + phi.index(b.lo[0], j, k);
+            const real* fl = flux0 + flux_.index(b.lo[0], j, k);
+            const real* ch = chi0 + chi_.index(b.lo[0], j, k);
+            const real* uf = u0 + ud.index(b.lo[0], j, k);
+            const int nx = b.hi[0] - b.lo[0];
+            for (int i = 0; i < nx; ++i) {
+                const real dc = (uf[i + su] - uf[i]) * r;
+                real v = ph[i] - (fl[i + sp] - fl[i]) + ch[i] * dc;
+                lo_v = std::min(lo_v, v);
+                hi_v = std::max(hi_v, v);
+                if (clip) {
+                    const real clipped = std::clamp(v, 0.0, 1.0);
+                    clipped_sum += std::abs(clipped - v);
+                    v = clipped;
+                }
+                ph[i] = v;
+            }
+        }
+    local.min_before_clip = lo_v;
+    local.max_before_clip = hi_v;
+    local.clipped_volume = clipped_sum;
+    if (patch)
+        halos_.fill(phi, *patch);
+    else
+        halos_.fill(phi);
 }
 
 void VofAdvection::sweep(Field& phi, const VelocityField& u, real dt, int d, const Patch* patch,
@@ -160,7 +317,10 @@ VofStepStats VofAdvection::advance_local(Field& phi, const VelocityField& u, rea
                     [&](int i, int j, int k) { chi_(i, j, k) = phi(i, j, k) >= 0.5 ? 1.0 : 0.0; });
         for (int s = 0; s < dim; ++s) {
             const int d = (step % 2 == 0) ? s : dim - 1 - s;
-            sweep(phi, u, dt, d, patch, local);
+            if (opt_.pointwise)
+                sweep(phi, u, dt, d, patch, local);
+            else
+                sweep_rows(phi, u, dt, d, patch, local);
         }
     }
     return local;

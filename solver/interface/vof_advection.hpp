@@ -50,6 +50,10 @@ struct VofOptions {
     real epsilon = 1e-8;
     /// Clip phi to [0,1] after each sweep (see the header comment).
     bool clip = true;
+    /// Run the sweeps the way they ran before the row sweeps (per face through the
+    /// pointwise kernels, mthinc_reconstruct then mthinc_box_integral): the reference the
+    /// row sweeps are tested and measured against. Same results, only slower.
+    bool pointwise = false;
 };
 
 /// What one step did, reduced over ranks.
@@ -90,6 +94,9 @@ class VofAdvection {
     /// One sweep in direction d; returns (min, max, clipped amount) locally.
     void sweep(Field& phi, const VelocityField& u, real dt, int d, const Patch* patch,
                VofStepStats& local);
+    /// The same sweep as rows along d with plain pointers (the default).
+    void sweep_rows(Field& phi, const VelocityField& u, real dt, int d, const Patch* patch,
+                    VofStepStats& local);
 
     const HaloFiller& halos_;
     VofOptions opt_;

@@ -163,10 +163,11 @@ def run(ctx):
 
 # The triad and the sweeps in one benchmark process (n^3 sweeps; the triad's arrays are
 # 3 x 128 MB, far beyond the caches). The ci tier keeps it short. BM_TensorTransport is one
-# Heun step of a membrane's Gs and kappa_R (bodies/transport.hpp) over the whole block.
+# Heun step of a membrane's Gs and kappa_R (bodies/transport.hpp) over the whole block;
+# BM_VofSweep one MTHINC step of a sphere's phi (interface/vof_advection.hpp).
 BENCH_N = {"ci": 64, "quick": 64, "full": 128}
 SWEEPS = ["BM_AdvectionSweepFused", "BM_PredictorSweep", "BM_CorrectionSweep",
-          "BM_DivergenceSweep", "BM_TensorTransport"]
+          "BM_DivergenceSweep", "BM_TensorTransport", "BM_VofSweep"]
 BENCH_MIN_TIME = {"ci": "0.01", "quick": "0.2", "full": "0.5"}
 
 
