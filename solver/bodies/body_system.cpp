@@ -400,7 +400,13 @@ std::vector<BodyDiagnostics> BodySystem::measure() const {
                     for (int r = 0; r < 3; ++r)
                         for (int c = 0; c < 3; ++c)
                             Gs[r][c] = T.value(r, c, p);
-                    const real J = std::sqrt(std::max(second_invariant(Gs), real(1e-300)));
+                    // A cell whose stored Gs has lost rank (J < 1e-3: no membrane stretch
+                    // there, e.g. a cell the extension has not filled) is left out: the
+                    // force leaves it out too (membrane_force.hpp, the band's J criterion),
+                    // and 1/J would swamp the sum (measured: J ~ 1e-150 in single cells of
+                    // the d/16 Ca 0.2 capsule).
+                    const real J = std::sqrt(std::max(second_invariant(Gs), real(0)));
+                    if (J < 1e-3) return;
                     const Real3 gr = gradient_at(b.phi(), g, p, GradientStencil::Isotropic);
                     reference_area += std::sqrt(gr[0] * gr[0] + gr[1] * gr[1] + gr[2] * gr[2]) / J;
                 }
