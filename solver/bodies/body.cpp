@@ -4,9 +4,10 @@
 
 namespace efsi {
 
-Body::Body(std::string name, BodyKind kind, bool bending, int dim, bool carries_tensor)
+Body::Body(std::string name, BodyKind kind, bool bending, int dim, bool carries_tensor,
+           bool reference_map)
     : name_(std::move(name)), kind_(kind), bending_(bending), dim_(dim),
-      carries_tensor_(carries_tensor) {
+      carries_tensor_(carries_tensor), carries_refmap_(reference_map) {
     tensor_.dim = dim;
 }
 
@@ -33,6 +34,11 @@ void Body::allocate(const Patch& patch) {
     } else {
         kappa_r_.reset();
     }
+    refmap_.clear();
+    for (int d = 0; carries_refmap_ && d < dim_; ++d) {
+        refmap_.push_back(make_field(std::string("refmap_") + "xyz"[d]));
+        refmap_.back().fill(0); // X = x: the undeformed state
+    }
 }
 
 void Body::move_to(const Patch& patch) {
@@ -40,6 +46,7 @@ void Body::move_to(const Patch& patch) {
     Field old_phi = std::move(phi_);
     std::vector<Field> old_tensor = std::move(tensor_.comp);
     std::optional<Field> old_kappa = std::move(kappa_r_);
+    std::vector<Field> old_refmap = std::move(refmap_);
     allocate(patch);
     if (old_patch.empty() || patch_.empty()) return;
     const Box& ob = old_patch.local;
@@ -60,6 +67,8 @@ void Body::move_to(const Patch& patch) {
         for (std::size_t s = 0; s < old_tensor.size(); ++s)
             tensor_.comp[s](p) = old_tensor[s](q);
         if (kappa_r_ && old_kappa) (*kappa_r_)(p) = (*old_kappa)(q);
+        for (std::size_t d = 0; d < std::min(refmap_.size(), old_refmap.size()); ++d)
+            refmap_[d](p) = old_refmap[d](q);
     });
 }
 
@@ -68,6 +77,8 @@ std::size_t Body::bytes() const {
     for (const auto& c : tensor_.comp)
         n += c.data().size();
     if (kappa_r_) n += kappa_r_->data().size();
+    for (const auto& c : refmap_)
+        n += c.data().size();
     return n * sizeof(real);
 }
 

@@ -10,13 +10,16 @@
 
 #include <optional>
 #include <string>
+#include <vector>
 
 namespace efsi {
 
 class Body {
   public:
-    /// `carries_tensor` false makes a passive body: phi only (a tracer of the flow).
-    Body(std::string name, BodyKind kind, bool bending, int dim, bool carries_tensor = true);
+    /// `carries_tensor` false makes a passive body: phi only (a tracer of the flow);
+    /// `reference_map` true adds the membrane's reference map offset X - x (dim fields).
+    Body(std::string name, BodyKind kind, bool bending, int dim, bool carries_tensor = true,
+         bool reference_map = false);
 
     const std::string& name() const { return name_; }
     BodyKind kind() const { return kind_; }
@@ -38,6 +41,11 @@ class Body {
     Field* reference_curvature() { return kappa_r_ ? &*kappa_r_ : nullptr; }
     const Field* reference_curvature() const { return kappa_r_ ? &*kappa_r_ : nullptr; }
 
+    /// The reference map stored as its offset from the position, X(x, t) - x, one field per
+    /// direction (membranes with strain_model = reference_map; empty otherwise).
+    std::vector<Field>& reference_map() { return refmap_; }
+    const std::vector<Field>& reference_map() const { return refmap_; }
+
     /// Bytes held by this body's fields on this rank.
     std::size_t bytes() const;
 
@@ -49,10 +57,12 @@ class Body {
     bool bending_;
     int dim_;
     bool carries_tensor_;
+    bool carries_refmap_;
     Patch patch_;
     Field phi_;
     SymmetricTensorField tensor_;
     std::optional<Field> kappa_r_;
+    std::vector<Field> refmap_;
 };
 
 } // namespace efsi

@@ -60,7 +60,8 @@ BodySystem::BodySystem(const Config& config, const Decomposition& dec, const Hal
     for (const BodyConfig& b : config.bodies) {
         physics_.push_back(make_body_physics(b, ctx));
         bodies_.push_back(std::make_unique<Body>(b.name, b.kind, b.bending, dec.dim(),
-                                                 physics_.back()->carries_tensor()));
+                                                 physics_.back()->carries_tensor(),
+                                                 b.carries_reference_map()));
         if (b.carried_by_surface_velocity() && !surface_velocity_) {
             // One instance for every membrane: its halo covers the largest reach asked for.
             real reach = 0;

@@ -96,25 +96,31 @@ inline void transverse_term(const real* __restrict f, const real* __restrict wd,
     }
 }
 
-/// Rates of the tensor's stored components (and kappa) on `box`, row by row: for each row
-/// (j, k) and field s (the components in slot order, kappa last) calls
-/// finish(s, offset, rate), `offset` the index of the row's first point in the patch fields
-/// and rate[0..n0) its rates. Exactly the pointwise kernels' expressions (with 1/h).
+/// Rates of the tensor's stored components (if any) and of the scalars on `box`, row by row:
+/// for each row (j, k) and field s (the tensor's components in slot order, then the scalars)
+/// calls finish(s, offset, rate), `offset` the index of the row's first point in the patch
+/// fields and rate[0..n0) its rates. A scalar k with source[k] = a >= 0 has the source
+/// -v_a (cell-centre mean of its two a-faces): the offset X - x of a reference map X, whose
+/// material derivative is -v. Exactly the pointwise kernels' expressions (with 1/h).
 template <int Dim, class Finish>
-void rate_rows(const Box& box, const SymmetricTensorField& t, const Field* kappa,
-               const VelocityField& u, const GlobalGrid& g, Finish&& finish) {
+void rate_rows(const Box& box, const SymmetricTensorField* t, const std::vector<const Field*>& sc,
+               const std::vector<int>& source, const VelocityField& u, const GlobalGrid& g,
+               Finish&& finish) {
     if (box.empty()) return;
-    const Field& lay = t.comp[0];
+    if (!t && sc.empty()) return;
+    const Field& lay = t ? t->comp[0] : *sc[0];
     for (int d = 1; d < Dim; ++d)
         if (u[d].extent() != u[0].extent() || u[d].begin() != u[0].begin())
             throw std::logic_error("transport: velocity components differ in layout");
-    for (const Field& c : t.comp)
-        if (c.extent() != lay.extent() || c.begin() != lay.begin())
-            throw std::logic_error("transport: tensor components differ in layout");
-    if (kappa && (kappa->extent() != lay.extent() || kappa->begin() != lay.begin()))
-        throw std::logic_error("transport: kappa_R differs from the tensor in layout");
-    constexpr int n = Dim == 2 ? 3 : 6;
-    const int nfields = n + (kappa ? 1 : 0);
+    if (t)
+        for (const Field& c : t->comp)
+            if (c.extent() != lay.extent() || c.begin() != lay.begin())
+                throw std::logic_error("transport: tensor components differ in layout");
+    for (const Field* c : sc)
+        if (c->extent() != lay.extent() || c->begin() != lay.begin())
+            throw std::logic_error("transport: a scalar differs from the tensor in layout");
+    const int n = t ? (Dim == 2 ? 3 : 6) : 0;
+    const int nfields = n + int(sc.size());
     std::ptrdiff_t su[3] = {1, std::ptrdiff_t(u[0].extent()[0]),
                             std::ptrdiff_t(u[0].extent()[0]) * u[0].extent()[1]};
     std::ptrdiff_t sp[3] = {1, std::ptrdiff_t(lay.extent()[0]),
@@ -152,8 +158,8 @@ void rate_rows(const Box& box, const SymmetricTensorField& t, const Field* kappa
         for (int j = box.lo[1]; j < box.hi[1]; ++j) {
             const std::ptrdiff_t ru = std::ptrdiff_t(u[0].index(box.lo[0], j, k));
             const std::ptrdiff_t rp = std::ptrdiff_t(lay.index(box.lo[0], j, k));
-            // L on the row (velocity_gradient_at).
-            for (int a = 0; a < Dim; ++a) {
+            // L on the row (velocity_gradient_at), for the tensor's source only.
+            for (int a = 0; n > 0 && a < Dim; ++a) {
                 const real* __restrict ua = ubase[a] + ru;
                 const std::ptrdiff_t sa = su[a];
                 for (int c = 0; c < Dim; ++c) {
@@ -175,7 +181,7 @@ void rate_rows(const Box& box, const SymmetricTensorField& t, const Field* kappa
             }
             const real* __restrict w0 = ubase[0] + ru;
             for (int s = 0; s < nfields; ++s) {
-                const real* __restrict f = (s < n ? t.comp[s] : *kappa).data().data() + rp;
+                const real* __restrict f = (s < n ? t->comp[s] : *sc[s - n]).data().data() + rp;
                 // x-face fluxes w s_face, faces i - 1/2 for i = 0..n0.
                 for (int i = 0; i <= n0; ++i)
                     fx[i] = w0[i] * face_value_row(f + i, 1, w0[i]);
@@ -203,7 +209,7 @@ void rate_rows(const Box& box, const SymmetricTensorField& t, const Field* kappa
                     const real* __restrict T[3][3] = {};
                     for (int x = 0; x < Dim; ++x)
                         for (int y = 0; y < Dim; ++y)
-                            T[x][y] = t.comp[slot[x][y]].data().data() + rp;
+                            T[x][y] = t->comp[slot[x][y]].data().data() + rp;
                     const real* __restrict La[3] = {Lrow[a][0], Lrow[a][1], Lrow[a][Dim - 1]};
                     const real* __restrict Lb[3] = {Lrow[b][0], Lrow[b][1], Lrow[b][Dim - 1]};
                     // The rate row, the rows of L and of T are distinct buffers (too many
@@ -218,6 +224,12 @@ void rate_rows(const Box& box, const SymmetricTensorField& t, const Field* kappa
                         if constexpr (Dim == 2) src += real(0);
                         rate[i] = rate[i] + src;
                     }
+                } else if (const int a = source[s - n]; a >= 0) {
+                    // - v_a at the cell centre
+                    const real* __restrict ua = ubase[a] + ru;
+                    const std::ptrdiff_t sa = su[a];
+                    for (int i = 0; i < n0; ++i)
+                        rate[i] -= 0.5 * (ua[i] + ua[i + sa]);
                 }
                 finish(s, rp, static_cast<const real*>(rate), n0);
             }
@@ -225,12 +237,17 @@ void rate_rows(const Box& box, const SymmetricTensorField& t, const Field* kappa
 }
 
 template <class Finish>
-void rate_rows(const Box& box, const SymmetricTensorField& t, const Field* kappa,
-               const VelocityField& u, const GlobalGrid& g, Finish&& finish) {
-    if (t.dim == 3)
-        rate_rows<3>(box, t, kappa, u, g, finish);
+void rate_rows(const Box& box, const SymmetricTensorField* t, const std::vector<const Field*>& sc,
+               const std::vector<int>& source, const VelocityField& u, const GlobalGrid& g,
+               Finish&& finish) {
+    if (g.dim == 3)
+        rate_rows<3>(box, t, sc, source, u, g, finish);
     else
-        rate_rows<2>(box, t, kappa, u, g, finish);
+        rate_rows<2>(box, t, sc, source, u, g, finish);
+}
+
+std::vector<const Field*> one_or_none(const Field* kappa) {
+    return kappa ? std::vector<const Field*>{kappa} : std::vector<const Field*>{};
 }
 
 } // namespace
@@ -238,11 +255,28 @@ void rate_rows(const Box& box, const SymmetricTensorField& t, const Field* kappa
 void transport_predict(const Box& box, const SymmetricTensorField& t, const Field* kappa,
                        const VelocityField& u, const GlobalGrid& g, real dt, std::vector<Field>& k1,
                        SymmetricTensorField& t1, Field* kappa1) {
-    const int n = int(t.comp.size());
-    rate_rows(box, t, kappa, u, g, [&](int s, std::ptrdiff_t off, const real* rate, int n0) {
-        const real* __restrict f = (s < n ? t.comp[s] : *kappa).data().data() + off;
+    std::vector<Field*> s1;
+    if (kappa1) s1.push_back(kappa1);
+    transport_predict(box, &t, one_or_none(kappa), {-1}, u, g, dt, k1, &t1, s1);
+}
+
+void transport_correct(const Box& box, const SymmetricTensorField& t1, const Field* kappa1,
+                       const VelocityField& u, const GlobalGrid& g, real dt,
+                       const std::vector<Field>& k1, SymmetricTensorField& t, Field* kappa) {
+    std::vector<Field*> sn;
+    if (kappa) sn.push_back(kappa);
+    transport_correct(box, &t1, one_or_none(kappa1), {-1}, u, g, dt, k1, &t, sn);
+}
+
+void transport_predict(const Box& box, const SymmetricTensorField* t,
+                       const std::vector<const Field*>& sc, const std::vector<int>& source,
+                       const VelocityField& u, const GlobalGrid& g, real dt, std::vector<Field>& k1,
+                       SymmetricTensorField* t1, const std::vector<Field*>& sc1) {
+    const int n = t ? int(t->comp.size()) : 0;
+    rate_rows(box, t, sc, source, u, g, [&](int s, std::ptrdiff_t off, const real* rate, int n0) {
+        const real* __restrict f = (s < n ? t->comp[s] : *sc[s - n]).data().data() + off;
         real* __restrict k = k1[s].data().data() + off;
-        real* __restrict st = (s < n ? t1.comp[s] : *kappa1).data().data() + off;
+        real* __restrict st = (s < n ? t1->comp[s] : *sc1[s - n]).data().data() + off;
         for (int i = 0; i < n0; ++i) {
             k[i] = rate[i];
             st[i] = f[i] + dt * rate[i];
@@ -250,43 +284,68 @@ void transport_predict(const Box& box, const SymmetricTensorField& t, const Fiel
     });
 }
 
-void transport_correct(const Box& box, const SymmetricTensorField& t1, const Field* kappa1,
+void transport_correct(const Box& box, const SymmetricTensorField* t1,
+                       const std::vector<const Field*>& sc1, const std::vector<int>& source,
                        const VelocityField& u, const GlobalGrid& g, real dt,
-                       const std::vector<Field>& k1, SymmetricTensorField& t, Field* kappa) {
-    const int n = int(t.comp.size());
-    rate_rows(box, t1, kappa1, u, g, [&](int s, std::ptrdiff_t off, const real* rate, int n0) {
+                       const std::vector<Field>& k1, SymmetricTensorField* t,
+                       const std::vector<Field*>& sc) {
+    const int n = t ? int(t->comp.size()) : 0;
+    rate_rows(box, t1, sc1, source, u, g, [&](int s, std::ptrdiff_t off, const real* rate, int n0) {
         const real* __restrict k = k1[s].data().data() + off;
-        real* __restrict f = (s < n ? t.comp[s] : *kappa).data().data() + off;
+        real* __restrict f = (s < n ? t->comp[s] : *sc[s - n]).data().data() + off;
         for (int i = 0; i < n0; ++i)
             f[i] += 0.5 * dt * (k[i] + rate[i]);
     });
 }
 
-void BodyTransport::advance(Body& body, const VelocityField& u, real dt) {
+void BodyTransport::advance(Body& body, const VelocityField& u, real dt, bool tensor) {
     if (body.patch().empty()) return;
-    SymmetricTensorField& t = body.tensor();
-    Field* kappa = body.reference_curvature();
-    const int n = int(t.comp.size());
-    const int total = n + (kappa ? 1 : 0);
+    SymmetricTensorField* t = tensor && !body.tensor().comp.empty() ? &body.tensor() : nullptr;
+    // The scalars: kappa_R (D s/Dt = 0), then the reference map's offset (D s/Dt = -v_d).
+    std::vector<Field*> sc;
+    std::vector<int> source;
+    if (Field* kappa = body.reference_curvature()) {
+        sc.push_back(kappa);
+        source.push_back(-1);
+    }
+    for (std::size_t d = 0; d < body.reference_map().size(); ++d) {
+        sc.push_back(&body.reference_map()[d]);
+        source.push_back(int(d));
+    }
+    const int n = t ? int(t->comp.size()) : 0;
+    const int total = n + int(sc.size());
+    if (total == 0) return;
+    const Field& lay = t ? t->comp[0] : *sc[0];
     const GlobalGrid& g = halos_.decomposition().grid();
     // Scratch fields follow the body's patch.
-    if (int(k1_.size()) != total || k1_[0].begin() != t.comp[0].begin() ||
-        k1_[0].cells() != t.comp[0].cells()) {
-        k1_.assign(total, t.comp[0]);
-        stage_ = t;
-        if (kappa) stage_kappa_ = *kappa;
+    if (int(k1_.size()) != total || k1_[0].begin() != lay.begin() ||
+        k1_[0].cells() != lay.cells() || int(stage_.comp.size()) != n) {
+        k1_.assign(total, lay);
+        stage_ = t ? *t : SymmetricTensorField{};
+        stage_scalars_.clear();
+        for (Field* f : sc)
+            stage_scalars_.push_back(*f);
     }
-    Field* stage_kappa = kappa ? &stage_kappa_ : nullptr;
+    std::vector<const Field*> sc_c(sc.begin(), sc.end());
+    std::vector<Field*> st1;
+    for (Field& f : stage_scalars_)
+        st1.push_back(&f);
+    std::vector<const Field*> st1_c(st1.begin(), st1.end());
+    SymmetricTensorField* stage = t ? &stage_ : nullptr;
     // Stage 1: k1 = R(T^n); T1 = T^n + dt k1.
-    for (Field& c : t.comp)
-        halos_.fill(c, body.patch());
-    if (kappa) halos_.fill(*kappa, body.patch());
-    transport_predict(body.patch().local, t, kappa, u, g, dt, k1_, stage_, stage_kappa);
-    for (Field& c : stage_.comp)
-        halos_.fill(c, body.patch());
-    if (kappa) halos_.fill(stage_kappa_, body.patch());
+    if (t)
+        for (Field& c : t->comp)
+            halos_.fill(c, body.patch());
+    for (Field* f : sc)
+        halos_.fill(*f, body.patch());
+    transport_predict(body.patch().local, t, sc_c, source, u, g, dt, k1_, stage, st1);
+    if (t)
+        for (Field& c : stage_.comp)
+            halos_.fill(c, body.patch());
+    for (Field* f : st1)
+        halos_.fill(*f, body.patch());
     // Stage 2: T^{n+1} = T^n + dt/2 (k1 + R(T1)).
-    transport_correct(body.patch().local, stage_, stage_kappa, u, g, dt, k1_, t, kappa);
+    transport_correct(body.patch().local, stage, st1_c, source, u, g, dt, k1_, t, sc);
 }
 
 } // namespace efsi

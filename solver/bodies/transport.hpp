@@ -1,6 +1,7 @@
 // Transport of a body's cell fields by the flow, on the body's patch only.
 //
 //   scalars (kappa_R):      D s/Dt = 0
+//   reference map offset:   D (X - x)_d/Dt = -v_d   (X the reference map, D X/Dt = 0)
 //   tensors (B, Gs):        D T/Dt = L T + T L^T,   L_ij = d v_i / d x_j
 //
 // Space: the advective term u.grad s is written as div(u s) - s div(u), with face values
@@ -49,17 +50,31 @@ void transport_correct(const Box& box, const SymmetricTensorField& t1, const Fie
                        const VelocityField& u, const GlobalGrid& g, real dt,
                        const std::vector<Field>& k1, SymmetricTensorField& t, Field* kappa);
 
+/// The general stages: an optional tensor `t` (null: none) and scalars `sc`, scalar k with the
+/// source -v_{source[k]} when source[k] >= 0 (a reference map's offset X - x), none when -1.
+/// k1 holds the tensor's components first, then the scalars'.
+void transport_predict(const Box& box, const SymmetricTensorField* t,
+                       const std::vector<const Field*>& sc, const std::vector<int>& source,
+                       const VelocityField& u, const GlobalGrid& g, real dt, std::vector<Field>& k1,
+                       SymmetricTensorField* t1, const std::vector<Field*>& sc1);
+void transport_correct(const Box& box, const SymmetricTensorField* t1,
+                       const std::vector<const Field*>& sc1, const std::vector<int>& source,
+                       const VelocityField& u, const GlobalGrid& g, real dt,
+                       const std::vector<Field>& k1, SymmetricTensorField* t,
+                       const std::vector<Field*>& sc);
+
 class BodyTransport {
   public:
     explicit BodyTransport(const HaloFiller& halos) : halos_(halos) {}
-    /// Advance the body's tensor (and kappa_R) by dt with the face velocity u (halos filled).
-    void advance(Body& body, const VelocityField& u, real dt);
+    /// Advance the body's tensor (unless `tensor` is false), kappa_R and reference map by dt
+    /// with the face velocity u (halos filled).
+    void advance(Body& body, const VelocityField& u, real dt, bool tensor = true);
 
   private:
     const HaloFiller& halos_;
     std::vector<Field> k1_;
-    SymmetricTensorField stage_; ///< T^n + dt k1
-    Field stage_kappa_;
+    SymmetricTensorField stage_;       ///< T^n + dt k1
+    std::vector<Field> stage_scalars_; ///< the scalars' T^n + dt k1
 };
 
 } // namespace efsi

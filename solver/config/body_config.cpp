@@ -138,6 +138,12 @@ std::vector<BodyConfig> read_bodies(TableReader& top, const GlobalGrid& grid,
         b.strain_core = r.number("strain_core", 1.0, Range::closed(0.0, 4.0), "cells",
                                  "membrane, strain_extension = normal: half-thickness of the "
                                  "band core whose transported Gs is kept");
+        b.strain_model = read_choice(
+            r, "strain_model", StrainModel::Tensor, strain_model_names,
+            "membrane: what carries the surface strain: tensor (Gs transported with the "
+            "velocity gradient) or reference_map (the reference map X, stored as X - x, "
+            "advected with the strain velocity, extended along the normals, and Gs rebuilt "
+            "each step from grad X: no velocity gradient enters; docs/method.md)");
         b.profile_iterations =
             int(r.integer("profile_iterations", 2, Range::closed(0, 100),
                           "membrane: pseudo-steps per time step of the conservative "
@@ -206,6 +212,10 @@ std::vector<BodyConfig> read_bodies(TableReader& top, const GlobalGrid& grid,
         if (b.kind == BodyKind::Membrane && b.interface != InterfaceKind::Smoothed)
             throw InputError(at + ": a membrane needs interface = \"smoothed\" (its force is "
                                   "spread by the smoothed delta function |grad phi|)");
+        if (b.kind == BodyKind::Membrane && b.strain_model == StrainModel::ReferenceMap &&
+            b.strain_extension != StrainExtension::Normal)
+            throw InputError(at + ": strain_model = \"reference_map\" extends the map along the "
+                                  "normals; body.strain_extension must be \"normal\"");
         if (b.kind != BodyKind::Membrane && b.elastic_modulus != 0)
             throw InputError(at + ": elastic_modulus is for kind = \"membrane\"");
         if (b.kind != BodyKind::Membrane && b.bending_modulus != 0)

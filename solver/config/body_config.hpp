@@ -28,6 +28,9 @@ enum class MembraneLawKind { NeoHookean, Skalak };
 enum class StrainVelocity { Surface, Local };
 /// How a membrane's Gs outside the band core is rebuilt after each step.
 enum class StrainExtension { Normal, Layers };
+/// What a membrane carries to know its surface strain: Gs itself (transported with the
+/// velocity gradient) or the reference map X(x, t) (advected, Gs rebuilt from its gradient).
+enum class StrainModel { Tensor, ReferenceMap };
 
 inline constexpr std::array<std::string_view, 3> body_kind_names{"passive", "solid", "membrane"};
 inline constexpr std::array<std::string_view, 8> body_shape_names{
@@ -36,6 +39,7 @@ inline constexpr std::array<std::string_view, 2> interface_names{"sharp", "smoot
 inline constexpr std::array<std::string_view, 2> membrane_law_names{"neo_hookean", "skalak"};
 inline constexpr std::array<std::string_view, 2> strain_velocity_names{"surface", "local"};
 inline constexpr std::array<std::string_view, 2> strain_extension_names{"normal", "layers"};
+inline constexpr std::array<std::string_view, 2> strain_model_names{"tensor", "reference_map"};
 
 inline std::string_view keyword(BodyKind v) {
     return body_kind_names[int(v)];
@@ -54,6 +58,9 @@ inline std::string_view keyword(StrainVelocity v) {
 }
 inline std::string_view keyword(StrainExtension v) {
     return strain_extension_names[int(v)];
+}
+inline std::string_view keyword(StrainModel v) {
+    return strain_model_names[int(v)];
 }
 
 /// The membrane law named `name` (neo_hookean, skalak); InputError naming `key` otherwise.
@@ -103,10 +110,17 @@ struct BodyConfig {
     /// (the mean of known neighbours marched out from t <= phi <= 1 - t, extension_threshold).
     StrainExtension strain_extension = StrainExtension::Normal;
     real strain_core = 1.0; ///< cells: half-thickness of the core (strain_extension = normal)
+    /// "tensor": Gs transported, D Gs/Dt = L Gs + Gs L^T; "reference_map": the reference map's
+    /// offset X - x transported (no velocity gradient), extended along the normals and Gs
+    /// rebuilt from grad X each step (membrane/reference_map.hpp).
+    StrainModel strain_model = StrainModel::Tensor;
     /// Pseudo-steps per time step of the conservative restoration of phi's tanh profile.
     int profile_iterations = 2;
 
     /// A moving membrane whose Gs is carried by the surface velocity.
+    bool carries_reference_map() const {
+        return kind == BodyKind::Membrane && strain_model == StrainModel::ReferenceMap;
+    }
     bool carried_by_surface_velocity() const {
         return kind == BodyKind::Membrane && !pinned && strain_velocity == StrainVelocity::Surface;
     }

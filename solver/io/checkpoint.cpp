@@ -41,6 +41,8 @@ std::vector<std::pair<std::string, Field*>> datasets(const FlowState& cs,
         for (Field& c : b->tensor().comp)
             out.emplace_back("body_" + c.name(), &c);
         if (Field* kr = b->reference_curvature()) out.emplace_back("body_" + kr->name(), kr);
+        for (Field& c : b->reference_map())
+            out.emplace_back("body_" + c.name(), &c);
     }
     return out;
 }

@@ -56,7 +56,19 @@ MembraneBody::MembraneBody(const BodyConfig& b, const BodyContext& ctx) : BodyPh
 MembraneBody::~MembraneBody() = default;
 
 void MembraneBody::initialise(Body& body, const Shape* shape) {
+    if (cfg_.carries_reference_map()) {
+        // X = x (the allocated offset 0) made constant along the normals, the state the
+        // surface velocity keeps; Gs from it (P to O(h^2) for any shape, or a mask).
+        ctx_.halos.fill(body.phi(), body.patch());
+        normal_extension_->apply_reference_map(body, /*whole_band=*/true);
+    }
     if (!shape) return; // a mask: Gs stays the identity
+    if (!cfg_.carries_reference_map()) initialise_tensor(body, *shape);
+    initialise_reference_curvature(body, *shape);
+}
+
+void MembraneBody::initialise_tensor(Body& body, const Shape& shape_ref) {
+    const Shape* shape = &shape_ref;
     const GlobalGrid& g = ctx_.dec.grid();
     const Field& phi = body.phi();
     // Gs = P_R = I - n_R n_R, n_R the normal of the shape's level sets through each
@@ -85,6 +97,11 @@ void MembraneBody::initialise(Body& body, const Shape* shape) {
     });
     for (Field& comp : body.tensor().comp)
         ctx_.halos.fill(comp, body.patch());
+}
+
+void MembraneBody::initialise_reference_curvature(Body& body, const Shape& shape_ref) {
+    const Shape* shape = &shape_ref;
+    const GlobalGrid& g = ctx_.dec.grid();
     if (Field* kr = body.reference_curvature()) {
         // kappa_R = the curvature of the shape's level set through each point
         // (level_set_curvature: the mean curvature in 3D, the section's in 2D; 1/r
@@ -92,7 +109,7 @@ void MembraneBody::initialise(Body& body, const Shape* shape) {
         // differences of the level function with a step of h/100: truncation
         // (h/100)^2 relative, round-off ~1e-16 |L| / (h/100)^2, both below 1e-7.
         const real s = 1e-2 * g.dx(0);
-        for_each_in(phi.owned(), [&](int a, int b, int c) {
+        for_each_in(body.phi().owned(), [&](int a, int b, int c) {
             const Real3 x = position(g, ctx_.dec.block(), Location::Cell, a, b, c);
             auto L = [&](int d1, int s1, int d2, int s2) {
                 Real3 y = x;
@@ -129,7 +146,9 @@ void MembraneBody::carry_tensor(Body& body, const BodyStep& s) {
             carrier = &s.surface_velocity->compute(body, cfg_.smoothing_width,
                                                    cfg_.surface_velocity_reach);
         });
-    s.timers.time("bodies_tensor", [&] { transport_->advance(body, *carrier, s.dt); });
+    // With a reference map only the map (and kappa_R) is carried; Gs is rebuilt from it.
+    const bool tensor = !cfg_.carries_reference_map();
+    s.timers.time("bodies_tensor", [&] { transport_->advance(body, *carrier, s.dt, tensor); });
 }
 
 real MembraneBody::restore_profile(Body& body, const BodyStep& s) {
@@ -142,7 +161,12 @@ real MembraneBody::restore_profile(Body& body, const BodyStep& s) {
 void MembraneBody::extend_tensor(Body& body, const BodyStep& s) {
     if (extension_) s.timers.time("bodies_extension", [&] { extension_->apply(body); });
     if (normal_extension_)
-        s.timers.time("bodies_extension", [&] { normal_extension_->apply(body); });
+        s.timers.time("bodies_extension", [&] {
+            if (cfg_.carries_reference_map())
+                normal_extension_->apply_reference_map(body);
+            else
+                normal_extension_->apply(body);
+        });
 }
 
 } // namespace efsi

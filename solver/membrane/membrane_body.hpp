@@ -1,7 +1,9 @@
 // A membrane as a body (bodies/body_physics.hpp): a smoothed band carrying the surface
 // tensor Gs (and kappa_R with bending), the force of its law |grad phi| f (membrane_force.hpp),
 // Gs carried by the surface's velocity (surface_velocity.hpp) or the local one, and rebuilt
-// off the band's core after each step (normal_extension.hpp or the layered TensorExtension),
+// off the band's core after each step (normal_extension.hpp or the layered TensorExtension);
+// or, with strain_model = reference_map, the reference map X carried instead and Gs rebuilt
+// from its gradient (reference_map.hpp),
 // phi's tanh profile restored after each VOF step (interface/conservative_reinit.hpp).
 // Its time-step limits are "membrane" (in-plane, membrane_time_step_limit) and, with
 // bending, "bending" (bending_time_step_limit).
@@ -47,6 +49,9 @@ class MembraneBody final : public BodyPhysics {
     void extend_tensor(Body& body, const BodyStep& step) override;
 
   private:
+    void initialise_tensor(Body& body, const Shape& shape);
+    void initialise_reference_curvature(Body& body, const Shape& shape);
+
     std::unique_ptr<MembraneLaw> law_;
     std::unique_ptr<MembraneForce> force_;
     std::unique_ptr<BodyTransport> transport_;

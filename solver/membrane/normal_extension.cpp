@@ -2,7 +2,9 @@
 
 #include "bodies/symmetric_tensor.hpp"
 #include "core/error.hpp"
+#include "core/matrix3.hpp"
 #include "interface/geometry.hpp"
+#include "membrane/reference_map.hpp"
 #include "operators/flow_operators.hpp"
 
 #include <fmt/format.h>
@@ -37,82 +39,100 @@ NormalExtension::NormalExtension(const HaloFiller& halos, const std::string& bod
     }
 }
 
-void NormalExtension::apply(Body& body) {
-    SymmetricTensorField& G = body.tensor();
-    if (G.comp.empty()) return;
+bool NormalExtension::prepare(Body& body, const std::vector<Field>& fields) {
     const Decomposition& dec = halos_.decomposition();
-    const GlobalGrid& g = dec.grid();
-    const LocalBlock& block = dec.block();
-    const int dim = g.dim;
-    const int ncomp = int(G.comp.size());
+    const int dim = dec.grid().dim;
+    const int ncomp = int(fields.size());
     const bool empty = body.patch().empty();
     Field& phi = body.phi();
-    const real h = g.dx(0);
-    const real eps = eps_cells_ * h;
+    const real eps = eps_cells_ * dec.grid().dx(0);
     if (!empty) {
-        if (psi_.data().empty() || psi_.begin() != phi.begin() || psi_.cells() != phi.cells()) {
+        if (psi_.data().empty() || psi_.begin() != phi.begin() || psi_.cells() != phi.cells() ||
+            int(src_.size()) != ncomp) {
             psi_ = Field::on_patch("psi", Location::Cell, phi.begin(), phi.cells(), dim, 1);
             src_.clear();
             for (int s = 0; s < ncomp; ++s)
-                src_.push_back(Field::on_patch("Gs_source", Location::Cell, phi.begin(),
+                src_.push_back(Field::on_patch("extension_source", Location::Cell, phi.begin(),
                                                phi.cells(), dim, wide_halo_));
         }
         for_each_in(phi.owned(), [&](int i, int j, int k) {
             psi_(i, j, k) = profile_distance(phi(i, j, k), eps);
             for (int s = 0; s < ncomp; ++s)
-                src_[s](i, j, k) = G.comp[s](i, j, k);
+                src_[s](i, j, k) = fields[s](i, j, k);
         });
     }
     // Collective: every rank with a part of the patch takes part (the patch's exchange
     // flags pair the ranks).
-    if (empty) return;
+    if (empty) return false;
     halos_.fill(psi_, body.patch());
     for (Field& f : src_)
         halos_.fill(f, body.patch());
+    return true;
+}
 
-    const real core = core_cells_ * h;
-    const real reach = reach_cells_ * h;
-    // Trilinear interpolation at x from cell centres: a convex combination, so the extension
-    // makes no new extrema. (Tricubic Catmull-Rom, exact for quadratics, was tried: it moved
-    // D(1) of the d/8 Ca 0.05 capsule by 1 % only, and the d/8 Ca 0.2 run that completes
-    // t = 10 with trilinear stopped UNSTABLE at t = 1.9 with it; docs/method.md.)
-    auto value = [&](const Field& f, const Real3& x) {
-        Int3 base{0, 0, 0};
-        std::array<real, 3> t{0, 0, 0};
-        for (int d = 0; d < dim; ++d) {
-            const real u = (x[d] - g.origin[d]) / g.dx(d) - block.offset[d] - 0.5;
-            base[d] = int(std::floor(u));
-            t[d] = u - base[d];
-        }
-        real r = 0;
-        const int kz = dim == 3 ? 2 : 1;
-        for (int c = 0; c < kz; ++c)
-            for (int b = 0; b < 2; ++b)
-                for (int a = 0; a < 2; ++a) {
-                    const real w = (a ? t[0] : 1 - t[0]) * (b ? t[1] : 1 - t[1]) *
-                                   (dim == 3 ? (c ? t[2] : 1 - t[2]) : 1.0);
-                    r += w * f(base[0] + a, base[1] + b, base[2] + c);
-                }
-        return r;
-    };
-    for_each_in(phi.owned(), [&](int i, int j, int k) {
+// Trilinear interpolation at x from cell centres: a convex combination, so the extension
+// makes no new extrema. (Tricubic Catmull-Rom, exact for quadratics, was tried: it moved
+// D(1) of the d/8 Ca 0.05 capsule by 1 % only, and the d/8 Ca 0.2 run that completes
+// t = 10 with trilinear stopped UNSTABLE at t = 1.9 with it; docs/method.md.)
+real NormalExtension::interpolate(const Field& f, const Real3& x) const {
+    const Decomposition& dec = halos_.decomposition();
+    const GlobalGrid& g = dec.grid();
+    const int dim = g.dim;
+    Int3 base{0, 0, 0};
+    std::array<real, 3> t{0, 0, 0};
+    for (int d = 0; d < dim; ++d) {
+        const real u = (x[d] - g.origin[d]) / g.dx(d) - dec.block().offset[d] - 0.5;
+        base[d] = int(std::floor(u));
+        t[d] = u - base[d];
+    }
+    real r = 0;
+    const int kz = dim == 3 ? 2 : 1;
+    for (int c = 0; c < kz; ++c)
+        for (int b = 0; b < 2; ++b)
+            for (int a = 0; a < 2; ++a) {
+                const real w = (a ? t[0] : 1 - t[0]) * (b ? t[1] : 1 - t[1]) *
+                               (dim == 3 ? (c ? t[2] : 1 - t[2]) : 1.0);
+                r += w * f(base[0] + a, base[1] + b, base[2] + c);
+            }
+    return r;
+}
+
+bool NormalExtension::normal_at(const Int3& p, real& s, Real3& n) const {
+    const GlobalGrid& g = halos_.decomposition().grid();
+    s = psi_(p);
+    const Real3 gp = central_gradient(psi_, g, p);
+    real g2 = 0;
+    for (int d = 0; d < g.dim; ++d)
+        g2 += gp[d] * gp[d];
+    n = Real3{0, 0, 0};
+    if (std::abs(s) > reach_cells_ * g.dx(0) || g2 < 0.25) return false;
+    for (int d = 0; d < g.dim; ++d)
+        n[d] = gp[d] / std::sqrt(g2);
+    return true;
+}
+
+void NormalExtension::apply(Body& body) {
+    SymmetricTensorField& G = body.tensor();
+    if (G.comp.empty()) return;
+    if (!prepare(body, G.comp)) return;
+    const Decomposition& dec = halos_.decomposition();
+    const GlobalGrid& g = dec.grid();
+    const LocalBlock& block = dec.block();
+    const int dim = g.dim;
+    const int ncomp = int(G.comp.size());
+    const real core = core_cells_ * g.dx(0);
+    for_each_in(body.phi().owned(), [&](int i, int j, int k) {
         const Int3 p{i, j, k};
-        const real s = psi_(p);
-        const Real3 gp = central_gradient(psi_, g, p);
-        real g2 = 0;
-        for (int d = 0; d < dim; ++d)
-            g2 += gp[d] * gp[d];
+        real s = 0;
+        Real3 n;
         std::array<std::array<real, 3>, 3> T{};
-        if (std::abs(s) > reach || g2 < 0.25) {
+        if (!normal_at(p, s, n)) {
             for (int s2 = 0; s2 < ncomp; ++s2)
                 G.comp[s2](p) = 0;
             for (int a = 0; a < dim; ++a)
                 G.comp[SymmetricTensorField::slot(a, a, dim)](p) = 1;
             return;
         }
-        Real3 n{0, 0, 0};
-        for (int d = 0; d < dim; ++d)
-            n[d] = gp[d] / std::sqrt(g2);
         if (std::abs(s) <= core) {
             for (int a = 0; a < 3; ++a)
                 for (int b = 0; b < 3; ++b)
@@ -123,7 +143,7 @@ void NormalExtension::apply(Body& body) {
                 y[d] -= s * n[d];
             std::array<real, 6> v{};
             for (int s2 = 0; s2 < ncomp; ++s2)
-                v[s2] = value(src_[s2], y);
+                v[s2] = interpolate(src_[s2], y);
             for (int a = 0; a < 3; ++a)
                 for (int b = 0; b < 3; ++b) {
                     const int sl = SymmetricTensorField::slot(a, b, dim);
@@ -147,6 +167,96 @@ void NormalExtension::apply(Body& body) {
     });
     for (Field& c : G.comp)
         halos_.fill(c, body.patch());
+}
+
+void NormalExtension::apply_reference_map(Body& body, bool whole_band) {
+    std::vector<Field>& X = body.reference_map();
+    SymmetricTensorField& G = body.tensor();
+    if (X.empty() || G.comp.empty()) return;
+    if (!prepare(body, X)) return;
+    const Decomposition& dec = halos_.decomposition();
+    const GlobalGrid& g = dec.grid();
+    const LocalBlock& block = dec.block();
+    const int dim = g.dim;
+    const real core = core_cells_ * g.dx(0);
+    // 1. The map beyond the core: X(x) = X(y), y = x - s n, i.e. (X - x)(x) = (X - x)(y) - s n.
+    //    Beyond the band it keeps its transported value (never read by the force).
+    for_each_in(body.phi().owned(), [&](int i, int j, int k) {
+        const Int3 p{i, j, k};
+        real s = 0;
+        Real3 n;
+        if (!normal_at(p, s, n) || (!whole_band && std::abs(s) <= core)) return;
+        Real3 y = position(g, block, Location::Cell, i, j, k);
+        for (int d = 0; d < dim; ++d)
+            y[d] -= s * n[d];
+        for (int d = 0; d < dim; ++d)
+            X[d](p) = interpolate(src_[d], y) - s * n[d];
+    });
+    for (Field& c : X)
+        halos_.fill(c, body.patch());
+    // 2. Gs from grad X = I + grad (X - x) (central differences) in the band, I elsewhere.
+    //    X is constant along the normals, so at distance s its gradient is the surface's
+    //    taken along the parallel surface through x: grad_y X = grad_x X (I - s W)^-1, W =
+    //    P Hess(psi) P the parallel surface's shape operator (second differences of psi).
+    //    The band then holds the surface's strain, not its parallel surfaces' (which differ
+    //    by s x curvature: a sphere at rest would hold (1 + s/R)^2 P).
+    //    Only near the surface (the core and the cells the foot points' stencils read,
+    //    sqrt(dim) cells): farther in, the parallel surfaces curve tightly and second
+    //    differences of psi lose accuracy, so step 3 copies Gs out along the normals.
+    const real ih2 = 1 / (g.dx(0) * g.dx(0));
+    const real near = core + 2 * g.dx(0);
+    for_each_in(body.phi().owned(), [&](int i, int j, int k) {
+        const Int3 p{i, j, k};
+        real s = 0;
+        Real3 n;
+        Matrix3 Gm = identity_matrix();
+        if (normal_at(p, s, n) && std::abs(s) <= near) {
+            Matrix3 gx = identity_matrix();
+            for (int a = 0; a < dim; ++a) {
+                const Real3 ga = central_gradient(X[a], g, p);
+                for (int b = 0; b < dim; ++b)
+                    gx[a][b] += ga[b];
+            }
+            Matrix3 H{};
+            const real c0 = psi_(p);
+            for (int a = 0; a < dim; ++a) {
+                H[a][a] = (psi_(shifted(p, a, 1)) - 2 * c0 + psi_(shifted(p, a, -1))) * ih2;
+                for (int b = a + 1; b < dim; ++b) {
+                    const Int3 pp = shifted(shifted(p, a, 1), b, 1);
+                    const Int3 pm = shifted(shifted(p, a, 1), b, -1);
+                    const Int3 mp = shifted(shifted(p, a, -1), b, 1);
+                    const Int3 mm = shifted(shifted(p, a, -1), b, -1);
+                    H[a][b] = H[b][a] = (psi_(pp) - psi_(pm) - psi_(mp) + psi_(mm)) * 0.25 * ih2;
+                }
+            }
+            // Q = (I - s P H P)^-1 (the z row and column stay I in 2D).
+            Real3 hn{0, 0, 0};
+            for (int a = 0; a < dim; ++a)
+                for (int b = 0; b < dim; ++b)
+                    hn[a] += H[a][b] * n[b];
+            real nhn = 0;
+            for (int a = 0; a < dim; ++a)
+                nhn += n[a] * hn[a];
+            Matrix3 Q = identity_matrix();
+            for (int a = 0; a < dim; ++a)
+                for (int b = 0; b < dim; ++b)
+                    Q[a][b] -= s * (H[a][b] - n[a] * hn[b] - hn[a] * n[b] + nhn * n[a] * n[b]);
+            Q = inverse(Q);
+            Matrix3 gy{};
+            for (int a = 0; a < dim; ++a)
+                for (int b = 0; b < dim; ++b)
+                    for (int c = 0; c < dim; ++c)
+                        gy[a][b] += gx[a][c] * Q[c][b];
+            Gm = surface_tensor_from_map(gy, n, dim);
+        }
+        for (int a = 0; a < dim; ++a)
+            for (int b = a; b < dim; ++b)
+                G.comp[SymmetricTensorField::slot(a, b, dim)](p) = Gm[a][b];
+    });
+    for (Field& c : G.comp)
+        halos_.fill(c, body.patch());
+    // 3. Gs beyond that copied from the surface along the normals, as for a carried Gs.
+    apply(body);
 }
 
 } // namespace efsi

@@ -39,6 +39,12 @@ class NormalExtension {
 
     /// Replace Gs on the body's patch as described above; fills Gs's halos. Collective.
     void apply(Body& body);
+    /// strain_model = reference_map: extend the body's reference map X from the core along
+    /// the normals (X(x) = X(y), y the foot point; kept beyond the band), then set Gs from
+    /// its gradient taken along the surface (membrane/reference_map.hpp) near the surface
+    /// (|psi| <= core + 2 cells) and extend that Gs over the band as apply() does. `whole_band`: extend the core too (the initial state, X = x: then
+    /// X = x - psi n, the closest point, in the whole band). Collective.
+    void apply_reference_map(Body& body, bool whole_band = false);
 
     real core_cells() const { return core_cells_; }
     real reach_cells() const { return reach_cells_; }
@@ -47,13 +53,20 @@ class NormalExtension {
     static real default_reach(real eps_cells);
 
   private:
+    /// psi and a wide-halo copy of `fields` (src_); false on a rank without the patch.
+    bool prepare(Body& body, const std::vector<Field>& fields);
+    /// Trilinear interpolant of a src_ field at x.
+    real interpolate(const Field& f, const Real3& x) const;
+    /// psi (s) and unit normal at p; false beyond the reach or where psi is not a distance.
+    bool normal_at(const Int3& p, real& s, Real3& n) const;
+
     const HaloFiller& halos_;
     real eps_cells_;
     real core_cells_;
     real reach_cells_;
     int wide_halo_;
     Field psi_;              ///< eps atanh(1 - 2 phi), halo 1
-    std::vector<Field> src_; ///< Gs after the transport, wide halos (interpolation source)
+    std::vector<Field> src_; ///< Gs (or X - x) after the transport, wide halos
 };
 
 } // namespace efsi

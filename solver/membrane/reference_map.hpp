@@ -1,0 +1,24 @@
+// The membrane's surface strain from a reference map (strain_model = "reference_map").
+//
+// X(x, t) is the reference position of the material point at x: D X/Dt = 0, no velocity
+// gradient anywhere (the tensor form, D Gs/Dt = L Gs + Gs L^T, needs L at the membrane, where
+// the tangential velocity has a kink). It is stored as its offset X - x, which is smooth and
+// periodic where x is not: D (X - x)/Dt = -v (bodies/transport.hpp). The surface tensor is
+// Gs = F P_R F^T. With the current normal n and the tangential part of the map's gradient,
+// M = P (grad X)^T (grad X) P (P = I - n n), which is (F_s F_s^T)^+ on the tangent plane,
+//   Gs = (M + n n)^-1 - n n,
+// the pseudo-inverse of M: only tangential derivatives of X enter (a map extended along the
+// normals has none across), Gs n = 0 exactly, and for X = A^-1 (x - c) around a sphere it is
+// A P_R A^T (Milcent & Maitre 2016 form the same tensor as K - (K n)(K n)^T / (n K n),
+// K = (grad X^T grad X)^-1, equal to it when grad X is invertible).
+#pragma once
+
+#include "core/types.hpp"
+
+namespace efsi {
+
+/// Gs from the map's gradient `gx` (gx[a][b] = d X_a / d x_b) and the unit normal `n`
+/// (entries past `dim` are ignored; in 2D the z stretch is 1 and Gs_zz = 1).
+Matrix3 surface_tensor_from_map(const Matrix3& gx, const Real3& n, int dim);
+
+} // namespace efsi
