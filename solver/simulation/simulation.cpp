@@ -1,11 +1,11 @@
 #include "simulation/simulation.hpp"
 
 #include "core/error.hpp"
-#include "core/version.hpp"
 #include "flow/initial_conditions.hpp"
 #include "io/field_output.hpp"
 #include "membrane/surface_velocity.hpp"
 #include "parallel/peak_memory.hpp"
+#include "simulation/run_record.hpp"
 #include "time/time_step_control.hpp"
 
 #include <fmt/core.h>
@@ -22,27 +22,6 @@ namespace efsi {
 namespace fs = std::filesystem;
 
 namespace {
-
-/// Keep the header and the rows up to time t (the second column) of a CSV an earlier run
-/// wrote: a restart from a checkpoint older than the run's last step redoes the steps after
-/// it, whose old rows would otherwise stay in the file next to the new ones.
-void drop_rows_after(const fs::path& file, double t) {
-    std::ifstream in(file);
-    if (!in) return;
-    std::string line, kept;
-    bool header = true;
-    while (std::getline(in, line)) {
-        const auto a = line.find(',');
-        const auto b = a == std::string::npos ? a : line.find(',', a + 1);
-        if (!header && b != std::string::npos &&
-            std::stod(line.substr(a + 1, b - a - 1)) > t + 1e-12 * std::max(1.0, std::abs(t)))
-            continue;
-        kept += line + "\n";
-        header = false;
-    }
-    in.close();
-    std::ofstream(file) << kept;
-}
 
 /// A possible cause worth naming when a run with membranes blows up: with the layered
 /// extension of Gs (strain_extension = "layers"), Gs carried by the surface velocity over a
@@ -61,14 +40,6 @@ std::string membrane_instability_hint(const Config& cfg) {
                        "whatever dt; if yours is stiff, set body.surface_velocity_reach = {} "
                        "or use the default strain_extension = \"normal\" (docs/method.md)",
                        r, names, r);
-}
-
-/// The machine load (1, 5 and 15 minute averages of /proc/loadavg); empty when unknown.
-std::vector<double> machine_load() {
-    std::ifstream in("/proc/loadavg");
-    std::vector<double> v(3);
-    if (!(in >> v[0] >> v[1] >> v[2])) return {};
-    return v;
 }
 
 } // namespace
@@ -165,10 +136,7 @@ Simulation::Simulation(const Config& config, const RunOptions& options, MPI_Comm
         if (opt_.restart_file.empty() || !fs::exists(opt_.output_dir / "diagnostics.csv")) {
             std::ofstream(opt_.output_dir / "diagnostics.csv") << Diagnostics::csv_header() << "\n";
             if (bodies_)
-                std::ofstream(opt_.output_dir / "bodies.csv")
-                    << "step,time,body,volume,centroid_x,centroid_y,centroid_z,phi_min,phi_max,"
-                       "clipped_volume,patch_cells,bytes,area,taylor_deformation,inclination_over_"
-                       "pi,tensor_trace_max,reference_area\n";
+                std::ofstream(opt_.output_dir / "bodies.csv") << bodies_csv_header() << "\n";
             if (adhesion_)
                 std::ofstream(opt_.output_dir / "adhesion.csv")
                     << AdhesionRecord::csv_header() << "\n";
@@ -324,19 +292,9 @@ void Simulation::write_outputs_if_due(bool final_step) {
                 failed = 3;
             if (bodies_) {
                 last_bodies_ = bodies_->measure();
-                if (dec_->rank() == 0) {
-                    std::ofstream out(opt_.output_dir / "bodies.csv", std::ios::app);
-                    for (const auto& b : last_bodies_)
-                        out << fmt::format(
-                            "{},{:.10e},{},{:.12e},{:.10e},{:.10e},{:.10e},{:.6e},"
-                            "{:.6e},{:.3e},{},{},{:.10e},{:.8e},{:.8e},{:.8e},{:.10e}\n",
-                            s.step, s.time, b.name, b.volume, b.centroid[0], b.centroid[1],
-                            b.centroid[2], b.phi_min, b.phi_max, b.clipped_volume, b.patch_cells,
-                            b.bytes, b.area, b.taylor_deformation, b.inclination_over_pi,
-                            b.tensor_trace_max, b.reference_area);
-                    out.close();
-                    if (!out) failed = 2;
-                }
+                if (dec_->rank() == 0 &&
+                    !append_body_rows(opt_.output_dir / "bodies.csv", s.step, s.time, last_bodies_))
+                    failed = 2;
             }
             MPI_Bcast(&failed, 1, MPI_INT, 0, dec_->comm());
             if (failed) {
@@ -533,96 +491,26 @@ void Simulation::write_summary(double wall_seconds, const std::string& status,
     const PeakMemory mem =
         peak_memory(dec_->comm(), status == "completed" || status == "max_steps");
     if (dec_->rank() != 0) return;
-    nlohmann::json j;
-    j["case"] = cfg_.name;
-    j["status"] = status;
-    j["message"] = message;
-    j["efsi_commit"] = build_commit();
-    j["ranks"] = dec_->size();
-    j["load_before"] = load_before_;
-    j["load_after"] = machine_load();
-    j["ranks_per_dim"] = dec_->ranks_per_dim();
-    j["cells"] = cfg_.grid.total_cells();
-    j["grid"] = cfg_.grid.cells;
-    j["dim"] = cfg_.grid.dim;
-    j["steps"] = steps_this_run_;
-    j["final_step"] = state_->step;
-    j["time"] = state_->time;
-    j["wall_seconds"] = wall_seconds;
-    j["cell_updates_per_second"] =
-        double(cfg_.grid.total_cells()) * steps_this_run_ / std::max(wall_seconds, 1e-9);
-    j["peak_rss_bytes_max_rank"] = mem.max_rank_bytes;
-    j["peak_rss_bytes_sum"] = mem.sum_bytes;
-    nlohmann::json stages;
-    for (const auto& [k, v] : timers_.seconds())
-        stages[k] = v;
-    j["stages"] = stages;
-    j["linear_solvers"] = stepper_->solver_summary();
-    // The bodies' named explicit limits and the limit that set the last step's dt.
-    nlohmann::json limits = nlohmann::json::object();
-    for (const TimeStepLimit& l : body_limits_)
-        limits[l.name] = l.dt;
-    // The adhesion's limit changes with the bonds: its smallest value over the run.
-    if (adhesion_ && std::isfinite(adhesion_record_.smallest_limit()))
-        limits["adhesion"] = adhesion_record_.smallest_limit();
-    j["time_step_limits"] = limits;
-    j["limited_by"] = last_limited_by_;
-    const Diagnostics& d = last_;
-    j["final"] = {{"step", d.step},
-                  {"time", d.time},
-                  {"dt", d.dt},
-                  {"max_divergence", d.max_divergence},
-                  {"kinetic_energy", d.kinetic_energy},
-                  {"max_speed", d.max_speed},
-                  {"cfl", d.cfl},
-                  {"pressure_iterations", d.pressure_iterations},
-                  {"pressure_residual", d.pressure_residual},
-                  {"viscous_iterations", d.viscous_iterations}};
-    j["restarted_from"] = opt_.restart_file.string();
-    nlohmann::json bodies = nlohmann::json::array();
-    for (const auto& b : last_bodies_)
-        bodies.push_back({{"name", b.name},
-                          {"volume", b.volume},
-                          {"centroid", b.centroid},
-                          {"phi_min", b.phi_min},
-                          {"phi_max", b.phi_max},
-                          {"patch_cells", b.patch_cells},
-                          {"bytes", b.bytes},
-                          {"area", b.area},
-                          {"taylor_deformation", b.taylor_deformation},
-                          {"inclination_over_pi", b.inclination_over_pi},
-                          {"tensor_trace_max", b.tensor_trace_max},
-                          {"reference_area", b.reference_area}});
-    j["bodies"] = bodies;
-    if (adhesion_) j["adhesion"] = adhesion_record_.summary(*adhesion_);
-    if (const SeedingReport& sr = cfg_.seeding; sr.used) {
-        nlohmann::json placed = nlohmann::json::object();
-        for (const auto& [name, count] : sr.placed)
-            placed[name] = count;
-        j["seeding"] = {{"seed", sr.seed},
-                        {"vessel", sr.vessel},
-                        {"fill_kind", sr.fill_kind},
-                        {"target_haematocrit", sr.target},
-                        {"achieved_haematocrit", sr.achieved},
-                        {"lumen_volume", sr.lumen_volume},
-                        {"gap", sr.gap},
-                        {"candidates", sr.candidates},
-                        {"placed", placed},
-                        {"message", sr.message}};
-    }
-    // Written aside and renamed: a failed write never leaves a truncated summary.
-    const fs::path file = opt_.output_dir / "summary.json", tmp = file.string() + ".tmp";
-    {
-        std::ofstream out(tmp);
-        out << j.dump(2) << "\n";
-        out.close();
-        if (!out) {
-            std::error_code ec;
-            fs::remove(tmp, ec);
-            throw IoError(fmt::format("{}: write failed", file.string()));
-        }
-    }
-    fs::rename(tmp, file);
+    write_summary_json(
+        opt_.output_dir / "summary.json",
+        {.cfg = cfg_,
+         .dec = *dec_,
+         .state = *state_,
+         .status = status,
+         .message = message,
+         .steps = steps_this_run_,
+         .wall_seconds = wall_seconds,
+         .load_before = load_before_,
+         .memory = mem,
+         .stage_seconds = timers_.seconds(),
+         .linear_solvers = stepper_->solver_summary(),
+         .body_limits = body_limits_,
+         .adhesion_limit = adhesion_record_.smallest_limit(),
+         .limited_by = last_limited_by_,
+         .last = last_,
+         .bodies = last_bodies_,
+         .adhesion = adhesion_ ? adhesion_record_.summary(*adhesion_) : nlohmann::json(),
+         .restarted_from = opt_.restart_file});
 }
 
 } // namespace efsi

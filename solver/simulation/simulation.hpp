@@ -63,6 +63,7 @@ class Simulation {
 
     /// "UNSTABLE at step ..., t = ...: why; where. The last good checkpoint ..."
     std::string unstable_message(const std::string& why) const;
+    /// Gathers the run's record (run_record.hpp) and writes summary.json on rank 0.
     void write_summary(double wall_seconds, const std::string& status,
                        const std::string& message) const;
     void log(const std::string& line) const;
