@@ -112,6 +112,10 @@ bool NormalExtension::normal_at(const Int3& p, real& s, Real3& n) const {
 }
 
 void NormalExtension::apply(Body& body) {
+    apply_tensor(body, core_cells_);
+}
+
+void NormalExtension::apply_tensor(Body& body, real core_cells) {
     SymmetricTensorField& G = body.tensor();
     if (G.comp.empty()) return;
     if (!prepare(body, G.comp)) return;
@@ -120,7 +124,7 @@ void NormalExtension::apply(Body& body) {
     const LocalBlock& block = dec.block();
     const int dim = g.dim;
     const int ncomp = int(G.comp.size());
-    const real core = core_cells_ * g.dx(0);
+    const real core = core_cells * g.dx(0);
     for_each_in(body.phi().owned(), [&](int i, int j, int k) {
         const Int3 p{i, j, k};
         real s = 0;
@@ -178,6 +182,7 @@ void NormalExtension::apply_reference_map(Body& body, bool whole_band) {
     const GlobalGrid& g = dec.grid();
     const LocalBlock& block = dec.block();
     const int dim = g.dim;
+    // The map's core (|s| <= strain_core cells) keeps its transported values.
     const real core = core_cells_ * g.dx(0);
     // 1. The map beyond the core: X(x) = X(y), y = x - s n, i.e. (X - x)(x) = (X - x)(y) - s n.
     //    Beyond the band it keeps its transported value (never read by the force).
@@ -200,11 +205,11 @@ void NormalExtension::apply_reference_map(Body& body, bool whole_band) {
     //    P Hess(psi) P the parallel surface's shape operator (second differences of psi).
     //    The band then holds the surface's strain, not its parallel surfaces' (which differ
     //    by s x curvature: a sphere at rest would hold (1 + s/R)^2 P).
-    //    Only near the surface (the core and the cells the foot points' stencils read,
-    //    sqrt(dim) cells): farther in, the parallel surfaces curve tightly and second
-    //    differences of psi lose accuracy, so step 3 copies Gs out along the normals.
+    //    Only near the surface (|s| <= 2 cells: the cells the foot points' trilinear stencils
+    //    read, up to sqrt(dim) cells away): farther in, the parallel surfaces curve tightly
+    //    and second differences of psi lose accuracy.
     const real ih2 = 1 / (g.dx(0) * g.dx(0));
-    const real near = core + 2 * g.dx(0);
+    const real near = 2 * g.dx(0);
     for_each_in(body.phi().owned(), [&](int i, int j, int k) {
         const Int3 p{i, j, k};
         real s = 0;
@@ -255,8 +260,13 @@ void NormalExtension::apply_reference_map(Body& body, bool whole_band) {
     });
     for (Field& c : G.comp)
         halos_.fill(c, body.patch());
-    // 3. Gs beyond that copied from the surface along the normals, as for a carried Gs.
-    apply(body);
+    // 3. Every band cell takes P Gs(y) P, Gs(y) interpolated at its foot point (apply() with
+    //    a core of 0): Gs is recomputed from X each step, so this copy smooths nothing that
+    //    accumulates, and the trilinear mean over the 8 cells around the surface removes the
+    //    grid-scale noise that differences of X and second differences of psi carry (keeping
+    //    the cells' own values within one cell of the surface gave tr Gs spikes of 8-27 at the
+    //    tips of the d/16 Ca 0.05 capsule, against 2.35 with the copy; docs/method.md).
+    apply_tensor(body, 0.0);
 }
 
 } // namespace efsi

@@ -42,8 +42,9 @@ class NormalExtension {
     /// strain_model = reference_map: extend the body's reference map X from the core along
     /// the normals (X(x) = X(y), y the foot point; kept beyond the band), then set Gs from
     /// its gradient taken along the surface (membrane/reference_map.hpp) near the surface
-    /// (|psi| <= core + 2 cells) and extend that Gs over the band as apply() does. `whole_band`: extend the core too (the initial state, X = x: then
-    /// X = x - psi n, the closest point, in the whole band). Collective.
+    /// (|psi| <= core + 2 cells) and extend that Gs over the band as apply() does. `whole_band`:
+    /// extend the core too (the initial state, X = x: then X = x - psi n, the closest point, in the
+    /// whole band). Collective.
     void apply_reference_map(Body& body, bool whole_band = false);
 
     real core_cells() const { return core_cells_; }
@@ -53,6 +54,7 @@ class NormalExtension {
     static real default_reach(real eps_cells);
 
   private:
+    void apply_tensor(Body& body, real core_cells);
     /// psi and a wide-halo copy of `fields` (src_); false on a rank without the patch.
     bool prepare(Body& body, const std::vector<Field>& fields);
     /// Trilinear interpolant of a src_ field at x.
