@@ -39,7 +39,7 @@ NormalExtension::NormalExtension(const HaloFiller& halos, const std::string& bod
     }
 }
 
-bool NormalExtension::prepare(Body& body, const std::vector<Field>& fields) {
+bool NormalExtension::prepare(Body& body, const std::vector<const Field*>& fields) {
     const Decomposition& dec = halos_.decomposition();
     const int dim = dec.grid().dim;
     const int ncomp = int(fields.size());
@@ -58,7 +58,7 @@ bool NormalExtension::prepare(Body& body, const std::vector<Field>& fields) {
         for_each_in(phi.owned(), [&](int i, int j, int k) {
             psi_(i, j, k) = profile_distance(phi(i, j, k), eps);
             for (int s = 0; s < ncomp; ++s)
-                src_[s](i, j, k) = fields[s](i, j, k);
+                src_[s](i, j, k) = (*fields[s])(i, j, k);
         });
     }
     // Collective: every rank with a part of the patch takes part (the patch's exchange
@@ -115,10 +115,14 @@ void NormalExtension::apply(Body& body) {
     apply_tensor(body, core_cells_);
 }
 
-void NormalExtension::apply_tensor(Body& body, real core_cells) {
+void NormalExtension::apply_tensor(Body& body, real core_cells, const Field* weight) {
     SymmetricTensorField& G = body.tensor();
     if (G.comp.empty()) return;
-    if (!prepare(body, G.comp)) return;
+    std::vector<const Field*> fields;
+    for (const Field& c : G.comp)
+        fields.push_back(&c);
+    if (weight) fields.push_back(weight);
+    if (!prepare(body, fields)) return;
     const Decomposition& dec = halos_.decomposition();
     const GlobalGrid& g = dec.grid();
     const LocalBlock& block = dec.block();
@@ -148,6 +152,13 @@ void NormalExtension::apply_tensor(Body& body, real core_cells) {
             std::array<real, 6> v{};
             for (int s2 = 0; s2 < ncomp; ++s2)
                 v[s2] = interpolate(src_[s2], y);
+            if (weight) {
+                // The components hold w Gs: the mean over the valid cells of the stencil
+                // (I where none is).
+                const real w = interpolate(src_[ncomp], y);
+                for (int s2 = 0; s2 < ncomp; ++s2)
+                    v[s2] = w > 1e-3 ? v[s2] / w : (s2 < dim ? 1.0 : 0.0);
+            }
             for (int a = 0; a < 3; ++a)
                 for (int b = 0; b < 3; ++b) {
                     const int sl = SymmetricTensorField::slot(a, b, dim);
@@ -177,12 +188,17 @@ void NormalExtension::apply_reference_map(Body& body, bool whole_band) {
     std::vector<Field>& X = body.reference_map();
     SymmetricTensorField& G = body.tensor();
     if (X.empty() || G.comp.empty()) return;
-    if (!prepare(body, X)) return;
+    std::vector<const Field*> fields;
+    for (const Field& c : X)
+        fields.push_back(&c);
+    if (!prepare(body, fields)) return;
     const Decomposition& dec = halos_.decomposition();
     const GlobalGrid& g = dec.grid();
     const LocalBlock& block = dec.block();
     const int dim = g.dim;
     // The map's core (|s| <= strain_core cells) keeps its transported values.
+    if ((valid_.data().empty() || valid_.begin() != X[0].begin() || valid_.cells() != X[0].cells()))
+        valid_ = Field::on_patch("valid", Location::Cell, X[0].begin(), X[0].cells(), dim, 1);
     const real core = core_cells_ * g.dx(0);
     // 1. The map beyond the core: X(x) = X(y), y = x - s n, i.e. (X - x)(x) = (X - x)(y) - s n.
     //    Beyond the band it keeps its transported value (never read by the force).
@@ -215,6 +231,7 @@ void NormalExtension::apply_reference_map(Body& body, bool whole_band) {
         real s = 0;
         Real3 n;
         Matrix3 Gm = identity_matrix();
+        real ok = 0;
         if (normal_at(p, s, n) && std::abs(s) <= near) {
             Matrix3 gx = identity_matrix();
             for (int a = 0; a < dim; ++a) {
@@ -246,6 +263,26 @@ void NormalExtension::apply_reference_map(Body& body, bool whole_band) {
             for (int a = 0; a < dim; ++a)
                 for (int b = 0; b < dim; ++b)
                     Q[a][b] -= s * (H[a][b] - n[a] * hn[b] - hn[a] * n[b] + nhn * n[a] * n[b]);
+            // Valid where the parallel surfaces are those of a distance: every tangential
+            // eigenvalue of I - s W in [1/2, 2] (1 - s k for curvatures k of the surface).
+            // Not so where the two faces' bands overlap (a capsule a few cells thick, its
+            // tips) or psi wrinkles: there the foot points crowd, X folds (a singular value
+            // of grad X P of 0.03 measured in the d/16 Ca 0.2 capsule's thin end) and Gs
+            // from X is meaningless; such cells are left out of the copy in step 3.
+            real tr = 0, det = 0;
+            {
+                // Eigenvalues of the tangential 2x2 block (3D) or the one value (2D):
+                // from the trace and determinant of Q restricted to the tangent plane
+                // (Q n = n, so those of Q are these and 1).
+                tr = -1;
+                for (int a = 0; a < 3; ++a)
+                    tr += Q[a][a];
+                det = determinant(Q);
+            }
+            const real disc = std::sqrt(std::max(real(0), tr * tr / 4 - det));
+            const real lo = dim == 3 ? tr / 2 - disc : tr - 1; // 2D: z row is 1
+            const real hi = dim == 3 ? tr / 2 + disc : tr - 1;
+            ok = (lo >= 0.5 && hi <= 2.0) ? 1.0 : 0.0;
             Q = inverse(Q);
             Matrix3 gy{};
             for (int a = 0; a < dim; ++a)
@@ -254,9 +291,10 @@ void NormalExtension::apply_reference_map(Body& body, bool whole_band) {
                         gy[a][b] += gx[a][c] * Q[c][b];
             Gm = surface_tensor_from_map(gy, n, dim);
         }
+        valid_(p) = ok;
         for (int a = 0; a < dim; ++a)
             for (int b = a; b < dim; ++b)
-                G.comp[SymmetricTensorField::slot(a, b, dim)](p) = Gm[a][b];
+                G.comp[SymmetricTensorField::slot(a, b, dim)](p) = ok * Gm[a][b];
     });
     for (Field& c : G.comp)
         halos_.fill(c, body.patch());
@@ -266,7 +304,7 @@ void NormalExtension::apply_reference_map(Body& body, bool whole_band) {
     //    grid-scale noise that differences of X and second differences of psi carry (keeping
     //    the cells' own values within one cell of the surface gave tr Gs spikes of 8-27 at the
     //    tips of the d/16 Ca 0.05 capsule, against 2.35 with the copy; docs/method.md).
-    apply_tensor(body, 0.0);
+    apply_tensor(body, 0.0, &valid_);
 }
 
 } // namespace efsi

@@ -54,9 +54,11 @@ class NormalExtension {
     static real default_reach(real eps_cells);
 
   private:
-    void apply_tensor(Body& body, real core_cells);
+    /// apply() with a core of `core_cells`; with `weight`, Gs holds w Gs and the copy is
+    /// the mean over the cells with w = 1 of each foot point's stencil.
+    void apply_tensor(Body& body, real core_cells, const Field* weight = nullptr);
     /// psi and a wide-halo copy of `fields` (src_); false on a rank without the patch.
-    bool prepare(Body& body, const std::vector<Field>& fields);
+    bool prepare(Body& body, const std::vector<const Field*>& fields);
     /// Trilinear interpolant of a src_ field at x.
     real interpolate(const Field& f, const Real3& x) const;
     /// psi (s) and unit normal at p; false beyond the reach or where psi is not a distance.
@@ -69,6 +71,7 @@ class NormalExtension {
     int wide_halo_;
     Field psi_;              ///< eps atanh(1 - 2 phi), halo 1
     std::vector<Field> src_; ///< Gs (or X - x) after the transport, wide halos
+    Field valid_;            ///< reference map: 1 where Gs from X is valid, else 0
 };
 
 } // namespace efsi
