@@ -1,0 +1,65 @@
+#!/usr/bin/python3
+"""Table of the recorded capsule runs with the reference map next to the carried Gs.
+
+    /usr/bin/python3 verification/records/capsule_longtime/refmap_table.py
+
+Reads the records in this folder (record.py) with capsule_longtime's own measure() and
+published steady values, and prints a markdown table: per run the strain model, the time
+reached, D at t = 1 / 2 / 3 / 5 / 10 (RP98 beside), the steady D over the last quarter and
+its error, max tr Gs over the band, the largest area change and the reference-area drift.
+docs/method.md quotes its output (section "The reference map").
+"""
+import sys
+from pathlib import Path
+
+import numpy as np
+
+HERE = Path(__file__).resolve().parent
+sys.path.insert(0, str(HERE.parents[1] / "studies"))
+from _flowio import body_series  # noqa: E402
+from capsule_longtime import measure, steady_reference  # noqa: E402
+
+# (record, strain model, Ca, law, C)
+RUNS = [
+    ("ca0.05_n64_t20_face4", "tensor", 0.05, "neo_hookean", None),
+    ("ca0.05_n64_t20_refmap", "reference_map", 0.05, "neo_hookean", None),
+    ("ca0.2_n64_t10_face4", "tensor", 0.2, "neo_hookean", None),
+    ("ca0.2_n64_t5_refmap", "reference_map", 0.2, "neo_hookean", None),
+    ("ca0.1_n64_t10_refmap", "reference_map", 0.1, "neo_hookean", None),
+    ("ca0.0125_n64_t5_refmap", "reference_map", 0.0125, "neo_hookean", None),
+    ("ca0.05_n64_bend0.01_t10_refmap", "reference_map", 0.05, "neo_hookean", None),
+    ("ca0.025_n64_skalak_C10_t2_refmap", "reference_map", 0.025, "skalak", 10.0),
+    ("ca0.025_n64_skalak_C100_t0.5_refmap", "reference_map", 0.025, "skalak", 100.0),
+]
+
+
+def d_at(t, D, when):
+    if when > t[-1] + 1e-9:
+        return "-"
+    return f"{D[int(np.argmin(np.abs(t - when)))]:.3f}"
+
+
+def main() -> int:
+    print("| run | strain model | t reached | D(1) | D(2) | D(3) | D(5) | D(10) | steady D "
+          "| published | error | max tr Gs | max area change | reference-area drift |")
+    print("|---" * 14 + "|")
+    for name, model, ca, law, c in RUNS:
+        rec = HERE / name
+        if not (rec / "bodies.csv").exists():
+            continue
+        m = measure(rec)
+        t, D, _, _ = body_series(rec)
+        ref = steady_reference(ca, law, c)
+        drift = m["reference_area_drift"]
+        # (records made before reference_area left out rank-lost cells hold ~1e143)
+        ref_drift = ("-" if drift is None else f"{drift:.2%}" if drift < 10
+                     else "not measurable (rank-lost cells counted)")
+        print(f"| {name} | {model} | {m['t_end']:.3g} ({m['status']}) | "
+              + " | ".join(d_at(t, D, w) for w in (1, 2, 3, 5, 10))
+              + f" | {m['steady_D']:.3f} | {ref:.3f} | {m['steady_D'] - ref:+.3f} "
+              f"| {m['max_trace_Gs']:.2f} | {m['max_area_change']:.1%} | {ref_drift} |")
+    return 0
+
+
+if __name__ == "__main__":
+    sys.exit(main())
