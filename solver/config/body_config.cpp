@@ -139,11 +139,11 @@ std::vector<BodyConfig> read_bodies(TableReader& top, const GlobalGrid& grid,
                                  "membrane, strain_extension = normal: half-thickness of the "
                                  "band core whose transported Gs is kept");
         b.strain_model = read_choice(
-            r, "strain_model", StrainModel::Tensor, strain_model_names,
+            r, "strain_model", StrainModel::ReferenceMap, strain_model_names,
             "membrane: what carries the surface strain: tensor (Gs transported with the "
             "velocity gradient) or reference_map (the reference map X, stored as X - x, "
             "advected with the strain velocity, extended along the normals, and Gs rebuilt "
-            "each step from grad X: no velocity gradient enters; docs/method.md)");
+            "each step from grad X: no velocity gradient enters; the default; docs/method.md)");
         b.profile_iterations =
             int(r.integer("profile_iterations", 2, Range::closed(0, 100),
                           "membrane: pseudo-steps per time step of the conservative "
@@ -214,8 +214,9 @@ std::vector<BodyConfig> read_bodies(TableReader& top, const GlobalGrid& grid,
                                   "spread by the smoothed delta function |grad phi|)");
         if (b.kind == BodyKind::Membrane && b.strain_model == StrainModel::ReferenceMap &&
             b.strain_extension != StrainExtension::Normal)
-            throw InputError(at + ": strain_model = \"reference_map\" extends the map along the "
-                                  "normals; body.strain_extension must be \"normal\"");
+            throw InputError(at + ": strain_model = \"reference_map\" (the default) extends the "
+                                  "map along the normals; body.strain_extension = \"layers\" "
+                                  "needs body.strain_model = \"tensor\"");
         if (b.kind != BodyKind::Membrane && b.elastic_modulus != 0)
             throw InputError(at + ": elastic_modulus is for kind = \"membrane\"");
         if (b.kind != BodyKind::Membrane && b.bending_modulus != 0)

@@ -113,7 +113,7 @@ struct BodyConfig {
     /// "tensor": Gs transported, D Gs/Dt = L Gs + Gs L^T; "reference_map": the reference map's
     /// offset X - x transported (no velocity gradient), extended along the normals and Gs
     /// rebuilt from grad X each step (membrane/reference_map.hpp).
-    StrainModel strain_model = StrainModel::Tensor;
+    StrainModel strain_model = StrainModel::ReferenceMap;
     /// Pseudo-steps per time step of the conservative restoration of phi's tanh profile.
     int profile_iterations = 2;
 

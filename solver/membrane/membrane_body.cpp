@@ -58,12 +58,13 @@ MembraneBody::~MembraneBody() = default;
 void MembraneBody::initialise(Body& body, const Shape* shape) {
     if (cfg_.carries_reference_map()) {
         // X = x (the allocated offset 0) made constant along the normals, the state the
-        // surface velocity keeps; Gs from it (P to O(h^2) for any shape, or a mask).
+        // surface velocity keeps; Gs from it (P to O(h^2)), kept for a mask. For a shape
+        // the exact P_R below replaces it until the first step rebuilds Gs from X.
         ctx_.halos.fill(body.phi(), body.patch());
         normal_extension_->apply_reference_map(body, /*whole_band=*/true);
     }
-    if (!shape) return; // a mask: Gs stays the identity
-    if (!cfg_.carries_reference_map()) initialise_tensor(body, *shape);
+    if (!shape) return; // a mask: Gs stays the identity (or, with a map, Gs from X)
+    initialise_tensor(body, *shape);
     initialise_reference_curvature(body, *shape);
 }
 

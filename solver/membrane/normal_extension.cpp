@@ -34,7 +34,7 @@ NormalExtension::NormalExtension(const HaloFiller& halos, const std::string& bod
                 "body '{}': strain_extension = \"normal\" needs every rank's block to be at "
                 "least {} cells wide, but one is {} cells wide along {} ({} ranks along it); "
                 "run on fewer ranks, lay them out along wider directions (parallel.ranks) or set "
-                "body.strain_extension = \"layers\"",
+                "body.strain_model = \"tensor\" and body.strain_extension = \"layers\"",
                 body_name, wide_halo_, thinnest, "xyz"[d], dec.ranks_per_dim()[d]));
     }
 }

@@ -39,13 +39,13 @@ check(not os.path.exists(out), "nothing was written (checked before the run)")
 out = os.path.join(args.output, "thin_blocks_layers")
 proc = run(args, "body_translation", out, ranks=4, expect=None,
            sets=["grid.cells=[32,16,1]", "grid.length=[2.0,1.0,0.0625]", "parallel.ranks=[1,4,1]",
-                 "body[2].strain_extension=\"layers\""])
+                 "body[2].strain_model=\"tensor\"", "body[2].strain_extension=\"layers\""])
 check(proc.returncode == 2 and "strain_velocity" in proc.stderr and "8 cells wide" in proc.stderr,
       f"layers: exit {proc.returncode}, message: {proc.stderr.strip()[:200]}")
 out = os.path.join(args.output, "thin_blocks_short_reach")
 proc = run(args, "body_translation", out, ranks=4, expect=None,
            sets=["grid.cells=[32,16,1]", "grid.length=[2.0,1.0,0.0625]", "parallel.ranks=[1,4,1]",
-                 "body[2].surface_velocity_reach=1.5", "body[2].strain_extension=\"layers\""])
+                 "body[2].surface_velocity_reach=1.5", "body[2].strain_model=\"tensor\"", "body[2].strain_extension=\"layers\""])
 check(proc.returncode == 2 and "5 cells wide" in proc.stderr,
       f"short reach: exit {proc.returncode}, message: {proc.stderr.strip()[:200]}")
 

@@ -66,11 +66,11 @@ def rank_agreement(label, sets, tolerance, rank_counts=(2, 4), layout=()):
               f"{worst:.1e} (<= {tolerance:g})")
 
 
-rank_agreement("no_gs_extension", grid + ["body[2].strain_extension=\"layers\"",
+rank_agreement("no_gs_extension", grid + ["body[2].strain_model=\"tensor\"", "body[2].strain_extension=\"layers\"",
                                           "body[2].profile_iterations=0",
                                           "body[2].extension_threshold=0",
                                           "body[2].strain_velocity=\"local\""], 1e-7)
-rank_agreement("layers", grid + ["body[2].strain_extension=\"layers\"",
+rank_agreement("layers", grid + ["body[2].strain_model=\"tensor\"", "body[2].strain_extension=\"layers\"",
                                  "body[2].profile_iterations=0"], 1e-5)
 # The default (normal extension, profile restoration) needs blocks 10 cells wide: 2 ranks
 # split along x (the automatic layout splits y, 8 cells).

@@ -25,11 +25,11 @@ RUNS = [
     ("ca0.05_n64_t20_refmap", "reference_map", 0.05, "neo_hookean", None),
     ("ca0.2_n64_t10_face4", "tensor", 0.2, "neo_hookean", None),
     ("ca0.2_n64_t5_refmap", "reference_map", 0.2, "neo_hookean", None),
+    ("ca0.2_n128_t3.5_refmap", "reference_map", 0.2, "neo_hookean", None),
     ("ca0.1_n64_t10_refmap", "reference_map", 0.1, "neo_hookean", None),
     ("ca0.0125_n64_t5_refmap", "reference_map", 0.0125, "neo_hookean", None),
-    ("ca0.05_n64_bend0.01_t10_refmap", "reference_map", 0.05, "neo_hookean", None),
+    ("ca0.05_n64_bend0.01_t5_refmap", "reference_map", 0.05, "neo_hookean", None),
     ("ca0.025_n64_skalak_C10_t2_refmap", "reference_map", 0.025, "skalak", 10.0),
-    ("ca0.025_n64_skalak_C100_t0.5_refmap", "reference_map", 0.025, "skalak", 100.0),
 ]
 
 
