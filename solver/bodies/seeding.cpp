@@ -6,8 +6,8 @@
 
 #include <algorithm>
 #include <cmath>
+#include <memory>
 #include <numbers>
-#include <unordered_map>
 
 namespace efsi {
 
@@ -50,37 +50,61 @@ std::vector<Real3> surface_lattice(const SeedKind& kind, real h) {
     return pts;
 }
 
-/// Points of the bodies placed so far, hashed on cells of side `cell`.
-class PointHash {
+/// Surface points of the placed bodies, binned on a regular grid of cells of side 2 r over
+/// a box that holds every body (r the reach of the overlap test): the sphere of radius r
+/// about any point then meets at most 2 x 2 x 2 cells. Each point remembers its body, so a
+/// body can be taken out (when it moves) and left out of its own test.
+class PointGrid {
   public:
-    explicit PointHash(real cell) : cell_(cell) {}
-    void add(const Real3& p) { map_[key(cell_of(p))].push_back(p); }
-    /// True when a stored point lies closer than r (r <= cell) to p.
-    bool near(const Real3& p, real r) const {
-        const auto c = cell_of(p);
+    PointGrid(const Real3& lo, const Real3& hi, real reach) : lo_(lo), cell_(2 * reach) {
+        for (int d = 0; d < 3; ++d)
+            n_[d] = std::max<std::int64_t>(1, std::int64_t(std::ceil((hi[d] - lo[d]) / cell_)));
+        cells_.resize(std::size_t(n_[0] * n_[1] * n_[2]));
+    }
+    void add(int body, const std::vector<Real3>& pts) {
+        for (const Real3& p : pts)
+            cells_[index(p)].push_back({p, body});
+    }
+    void remove(int body, const std::vector<Real3>& pts) {
+        for (const Real3& p : pts) {
+            auto& c = cells_[index(p)];
+            std::erase_if(c, [body](const Entry& e) { return e.body == body; });
+        }
+    }
+    /// True when a point of a body other than `self` lies closer than r (<= reach) to p.
+    bool near(const Real3& p, real r, int self) const {
+        std::array<std::int64_t, 3> a{}, b{};
+        for (int d = 0; d < 3; ++d) {
+            a[d] = std::max<std::int64_t>(0, cell_of(p[d] - r, d));
+            b[d] = std::min<std::int64_t>(n_[d] - 1, cell_of(p[d] + r, d));
+        }
         const real r2 = r * r;
-        for (int dk = -1; dk <= 1; ++dk)
-            for (int dj = -1; dj <= 1; ++dj)
-                for (int di = -1; di <= 1; ++di) {
-                    const auto it = map_.find(key({c[0] + di, c[1] + dj, c[2] + dk}));
-                    if (it == map_.end()) continue;
-                    for (const Real3& q : it->second)
-                        if (dist2(p, q) < r2) return true;
-                }
+        for (std::int64_t k = a[2]; k <= b[2]; ++k)
+            for (std::int64_t j = a[1]; j <= b[1]; ++j)
+                for (std::int64_t i = a[0]; i <= b[0]; ++i)
+                    for (const Entry& e : cells_[std::size_t((k * n_[1] + j) * n_[0] + i)])
+                        if (e.body != self && dist2(p, e.p) < r2) return true;
         return false;
     }
 
   private:
-    std::array<std::int64_t, 3> cell_of(const Real3& p) const {
-        return {std::int64_t(std::floor(p[0] / cell_)), std::int64_t(std::floor(p[1] / cell_)),
-                std::int64_t(std::floor(p[2] / cell_))};
+    struct Entry {
+        Real3 p;
+        int body;
+    };
+    std::int64_t cell_of(real x, int d) const {
+        return std::int64_t(std::floor((x - lo_[d]) / cell_));
     }
-    static std::uint64_t key(const std::array<std::int64_t, 3>& c) {
-        return splitmix64(std::uint64_t(c[0]) * 73856093ULL ^ std::uint64_t(c[1]) * 19349663ULL ^
-                          std::uint64_t(c[2]) * 83492791ULL);
+    std::size_t index(const Real3& p) const {
+        std::array<std::int64_t, 3> c{};
+        for (int d = 0; d < 3; ++d)
+            c[d] = std::clamp<std::int64_t>(cell_of(p[d], d), 0, n_[d] - 1);
+        return std::size_t((c[2] * n_[1] + c[1]) * n_[0] + c[0]);
     }
+    Real3 lo_;
     real cell_;
-    std::unordered_map<std::uint64_t, std::vector<Real3>> map_;
+    std::array<std::int64_t, 3> n_{};
+    std::vector<std::vector<Entry>> cells_;
 };
 
 void validate(const SeedingRequest& r) {
@@ -105,13 +129,18 @@ void validate(const SeedingRequest& r) {
         if (c < 0) throw InputError("seeding: a count is negative");
     if (!(r.gap >= 0)) throw InputError("seeding: the gap must be >= 0");
     if (r.max_candidates <= 0) throw InputError("seeding: max_candidates must be > 0");
+    if (r.max_shake_sweeps < 0) throw InputError("seeding: max_shake_sweeps must be >= 0");
+    if (r.stall_candidates <= 0 || r.sweeps_per_stall <= 0)
+        throw InputError("seeding: stall_candidates and sweeps_per_stall must be > 0");
 }
 
 } // namespace
 
 real counter_uniform(std::uint64_t seed, std::uint64_t counter, std::uint64_t stream) {
+    // Chained, not combined: distinct (counter, stream) pairs hash distinct inputs, for any
+    // values of either.
     const std::uint64_t h =
-        splitmix64(splitmix64(seed ^ 0x5851f42d4c957f2dULL) ^ splitmix64(counter * 4 + stream));
+        splitmix64(splitmix64(splitmix64(seed ^ 0x5851f42d4c957f2dULL) + counter) + stream);
     return real(h >> 11) * 0x1.0p-53;
 }
 
@@ -126,20 +155,168 @@ Matrix3 uniform_rotation(real u1, real u2, real u3) {
                    Real3{2 * (x * z - w * y), 2 * (y * z + w * x), 1 - 2 * (x * x + y * y)}};
 }
 
+namespace {
+
+/// The purposes of the random numbers: a candidate's draws use the candidate's number as
+/// counter, a shake move's its move number; the stream tells the purposes apart.
+enum Stream : std::uint64_t {
+    centre_x = 0, // centre_y = 1, centre_z = 2
+    rotation_u1 = 3,
+    rotation_u2 = 4,
+    rotation_u3 = 5,
+    shake_x = 8, // shake_y = 9, shake_z = 10
+    shake_axis_z = 11,
+    shake_axis_phi = 12,
+    shake_angle = 13,
+};
+
+/// The bodies placed so far and the test a body must pass to be placed or moved.
+class Packing {
+  public:
+    Packing(const SeedingRequest& r, real h) : r_(r), reach_(r.gap + h) {
+        for (const auto& k : r.kinds)
+            lattice_.push_back(surface_lattice(k, h));
+        real rb = 0;
+        for (const auto& k : r.kinds)
+            rb = std::max(rb, k.bounding_radius);
+        Real3 lo, hi;
+        for (int d = 0; d < 3; ++d) {
+            lo[d] = r.box_lo[d] - rb - 2 * reach_;
+            hi[d] = r.box_hi[d] + rb + 2 * reach_;
+        }
+        grid_ = std::make_unique<PointGrid>(lo, hi, reach_);
+        region_is_distance_ = r.region->level_bounds_distance();
+    }
+
+    /// A body of `kind` at (centre, rot) has its centre in the box, lies inside the region
+    /// with the gap to its edge, no point of its surface lattice comes closer than gap + h
+    /// to another body's (h the lattice spacing, so two surfaces closer than the gap touch)
+    /// and none lies inside another body. Body `self` (a body being moved) is ignored. On
+    /// success `pts_` and `shape_` hold the body's surface points and shape.
+    bool fits(int kind, const Real3& centre, const Matrix3& rot, int self) {
+        for (int d = 0; d < 3; ++d)
+            if (centre[d] < r_.box_lo[d] || centre[d] > r_.box_hi[d]) return false;
+        pts_.clear();
+        pts_.reserve(lattice_[kind].size());
+        for (const Real3& y : lattice_[kind]) {
+            const Real3 d = apply(rot, y);
+            const Real3 x{centre[0] + d[0], centre[1] + d[1], centre[2] + d[2]};
+            const real lv = r_.region->level(x);
+            if (region_is_distance_ ? lv > -r_.gap : lv >= 0) return false;
+            pts_.push_back(x);
+        }
+        for (const Real3& x : pts_)
+            if (grid_->near(x, reach_, self)) return false;
+        // Surface points of this body inside another (a body wholly inside another has no
+        // surface points near the other's), for the bodies whose bounding spheres meet.
+        shape_ = r_.kinds[kind].make(centre, rot);
+        for (std::size_t b = 0; b < bodies.size(); ++b) {
+            if (int(b) == self) continue;
+            const real rr =
+                r_.kinds[kind].bounding_radius + r_.kinds[bodies[b].kind].bounding_radius + r_.gap;
+            if (dist2(centre, bodies[b].centre) >= rr * rr) continue;
+            if (shapes_[b]->inside(centre) || shape_->inside(bodies[b].centre)) return false;
+            const real rb2 = std::pow(r_.kinds[bodies[b].kind].bounding_radius, 2);
+            for (const Real3& x : pts_)
+                if (dist2(x, bodies[b].centre) < rb2 && shapes_[b]->inside(x)) return false;
+        }
+        return true;
+    }
+
+    /// Place the body last passed to fits().
+    void add(int kind, const Real3& centre, const Matrix3& rot) {
+        const int id = int(bodies.size());
+        grid_->add(id, pts_);
+        points_.push_back(std::move(pts_));
+        shapes_.push_back(std::move(shape_));
+        bodies.push_back({kind, centre, rot});
+    }
+
+    /// Move body b to the pose last passed to fits().
+    void move(int b, const Real3& centre, const Matrix3& rot) {
+        grid_->remove(b, points_[b]);
+        grid_->add(b, pts_);
+        points_[b] = std::move(pts_);
+        shapes_[b] = std::move(shape_);
+        bodies[b].centre = centre;
+        bodies[b].rotation = rot;
+    }
+
+    std::vector<SeededBody> bodies;
+
+  private:
+    const SeedingRequest& r_;
+    real reach_;
+    bool region_is_distance_ = false;
+    std::vector<std::vector<Real3>> lattice_; ///< per kind, in body coordinates
+    std::unique_ptr<PointGrid> grid_;
+    std::vector<std::vector<Real3>> points_; ///< per body, in the lab frame
+    std::vector<std::unique_ptr<Shape>> shapes_;
+    std::vector<Real3> pts_;
+    std::unique_ptr<Shape> shape_;
+};
+
+Matrix3 multiply(const Matrix3& a, const Matrix3& b) {
+    Matrix3 c{};
+    for (int i = 0; i < 3; ++i)
+        for (int j = 0; j < 3; ++j)
+            c[i][j] = a[i][0] * b[0][j] + a[i][1] * b[1][j] + a[i][2] * b[2][j];
+    return c;
+}
+
+/// Monte Carlo shake of hard bodies: each sweep tries, body after body, a uniform random
+/// displacement in [-dx, dx]^3 and a rotation by an angle in [-da, da] about a uniformly
+/// random axis, accepted when the moved body still fits. The steps adapt after every sweep
+/// to keep the acceptance near 1/3 (larger steps relax faster; too large are refused).
+class Shaker {
+  public:
+    Shaker(real dx, real dx_min, real dx_max) : dx_(dx), dx_min_(dx_min), dx_max_(dx_max) {}
+
+    void sweep(Packing& p, const SeedingRequest& r) {
+        int accepted = 0;
+        const int n = int(p.bodies.size());
+        for (int b = 0; b < n; ++b) {
+            const std::uint64_t m = moves_++;
+            const SeededBody& s = p.bodies[b];
+            Real3 centre = s.centre;
+            for (int d = 0; d < 3; ++d)
+                centre[d] += dx_ * (2 * counter_uniform(r.seed, m, shake_x + d) - 1);
+            const real z = 2 * counter_uniform(r.seed, m, shake_axis_z) - 1;
+            const real phi = 2 * std::numbers::pi * counter_uniform(r.seed, m, shake_axis_phi);
+            const real q = std::sqrt(std::max(real(0), 1 - z * z));
+            const real angle = da_ * (2 * counter_uniform(r.seed, m, shake_angle) - 1);
+            const Matrix3 rot = multiply(
+                axis_angle_rotation({q * std::cos(phi), q * std::sin(phi), z}, angle), s.rotation);
+            if (p.fits(s.kind, centre, rot, b)) {
+                p.move(b, centre, rot);
+                ++accepted;
+            }
+        }
+        ++sweeps;
+        const real rate = n > 0 ? real(accepted) / n : 0;
+        const real f = rate > 0.45 ? 1.25 : rate < 0.25 ? 0.8 : 1;
+        dx_ = std::clamp(dx_ * f, dx_min_, dx_max_);
+        da_ = std::clamp(da_ * f, real(1e-3), real(0.5));
+    }
+
+    std::int64_t sweeps = 0;
+
+  private:
+    real dx_, dx_min_, dx_max_;
+    real da_ = 0.2;
+    std::uint64_t moves_ = 0;
+};
+
+} // namespace
+
 SeedingResult seed_bodies(const SeedingRequest& r) {
     validate(r);
     real r_min = r.kinds[0].bounding_radius;
     for (const auto& k : r.kinds)
         r_min = std::min(r_min, k.bounding_radius);
     const real h = r.sample_spacing > 0 ? r.sample_spacing : r_min / 12;
-    std::vector<std::vector<Real3>> lattice;
-    for (const auto& k : r.kinds)
-        lattice.push_back(surface_lattice(k, h));
-    // Two surfaces closer than the gap (plus the lattice's own resolution) touch.
-    const real reach = r.gap + h;
-    PointHash hash(reach);
-    std::vector<std::unique_ptr<Shape>> shapes;
-    const bool region_is_distance = r.region->level_bounds_distance();
+    Packing packing(r, h);
+    Shaker shaker(4 * h, h / 8, r_min);
 
     SeedingResult out;
     real fill_volume = 0;
@@ -156,56 +333,37 @@ SeedingResult seed_bodies(const SeedingRequest& r) {
         return -1;
     };
 
-    std::int64_t n = 0;
+    std::int64_t n = 0, misses = 0;
     for (int kind = next_kind(); kind >= 0 && n < r.max_candidates; kind = next_kind()) {
+        // Addition has stalled: shake the bodies to move the free space about.
+        if (misses >= r.stall_candidates && shaker.sweeps < r.max_shake_sweeps &&
+            !packing.bodies.empty()) {
+            for (int s = 0; s < r.sweeps_per_stall && shaker.sweeps < r.max_shake_sweeps; ++s)
+                shaker.sweep(packing, r);
+            misses = 0;
+        }
         const std::uint64_t c = std::uint64_t(n++);
         Real3 centre;
         for (int d = 0; d < 3; ++d)
-            centre[d] = r.box_lo[d] + (r.box_hi[d] - r.box_lo[d]) * counter_uniform(r.seed, c, d);
-        const Matrix3 rot = uniform_rotation(counter_uniform(r.seed, c, 3),
-                                             counter_uniform(r.seed, c + (1ULL << 62), 0),
-                                             counter_uniform(r.seed, c + (1ULL << 62), 1));
-        std::vector<Real3> pts;
-        pts.reserve(lattice[kind].size());
-        bool ok = true;
-        for (const Real3& y : lattice[kind]) {
-            const Real3 d = apply(rot, y);
-            const Real3 x{centre[0] + d[0], centre[1] + d[1], centre[2] + d[2]};
-            const real lv = r.region->level(x);
-            if (region_is_distance ? lv > -r.gap : lv >= 0) {
-                ok = false;
-                break;
-            }
-            pts.push_back(x);
+            centre[d] = r.box_lo[d] +
+                        (r.box_hi[d] - r.box_lo[d]) * counter_uniform(r.seed, c, centre_x + d);
+        const Matrix3 rot = uniform_rotation(counter_uniform(r.seed, c, rotation_u1),
+                                             counter_uniform(r.seed, c, rotation_u2),
+                                             counter_uniform(r.seed, c, rotation_u3));
+        if (!packing.fits(kind, centre, rot, -1)) {
+            ++misses;
+            continue;
         }
-        if (!ok) continue;
-        auto shape = r.kinds[kind].make(centre, rot);
-        for (const Real3& x : pts)
-            if (hash.near(x, reach)) {
-                ok = false;
-                break;
-            }
-        // Surface points of this body inside another (a body wholly inside another has no
-        // surface points near the other's), for the bodies whose bounding spheres meet.
-        for (std::size_t b = 0; ok && b < shapes.size(); ++b) {
-            const real rr =
-                r.kinds[kind].bounding_radius + r.kinds[out.bodies[b].kind].bounding_radius + r.gap;
-            if (dist2(centre, out.bodies[b].centre) >= rr * rr) continue;
-            if (shapes[b]->inside(centre) || shape->inside(out.bodies[b].centre)) ok = false;
-            for (std::size_t m = 0; ok && m < pts.size(); ++m)
-                if (shapes[b]->inside(pts[m])) ok = false;
-        }
-        if (!ok) continue;
-        for (const Real3& x : pts)
-            hash.add(x);
-        shapes.push_back(std::move(shape));
-        out.bodies.push_back({kind, centre, rot});
+        misses = 0;
+        packing.add(kind, centre, rot);
         if (todo[kind] > 0)
             --todo[kind];
         else
             fill_volume += r.kinds[kind].volume;
     }
+    out.bodies = std::move(packing.bodies);
     out.candidates = n;
+    out.sweeps = shaker.sweeps;
     out.achieved_fraction = fill_volume / r.region_volume;
     const bool counts_done = std::all_of(todo.begin(), todo.end(), [](int t) { return t == 0; });
     out.reached = counts_done && next_kind() < 0;
@@ -215,14 +373,14 @@ SeedingResult seed_bodies(const SeedingRequest& r) {
                                      [&](const SeededBody& b) { return b.kind == int(k); });
         placed += fmt::format("{}{} {}", placed.empty() ? "" : ", ", m, r.kinds[k].name);
     }
-    out.message =
-        fmt::format("placed {} after {} candidates; {} volume fraction {:.4f} (target "
-                    "{:.4f})",
-                    placed, n, r.kinds[r.fill_kind].name, out.achieved_fraction, r.target_fraction);
+    out.message = fmt::format("placed {} after {} candidates and {} shake sweeps; {} volume "
+                              "fraction {:.4f} (target {:.4f})",
+                              placed, n, out.sweeps, r.kinds[r.fill_kind].name,
+                              out.achieved_fraction, r.target_fraction);
     if (!out.reached)
-        out.message += fmt::format(": NOT reached within {} candidates (seed {}); lower the "
-                                   "target or the gap, or enlarge the region",
-                                   r.max_candidates, r.seed);
+        out.message += fmt::format(": NOT reached within {} candidates and {} shake sweeps "
+                                   "(seed {}); lower the target or the gap, or enlarge the region",
+                                   r.max_candidates, r.max_shake_sweeps, r.seed);
     return out;
 }
 

@@ -3,9 +3,15 @@
 //
 // Random sequential addition: candidates (a centre drawn uniformly in the region's bounding
 // box and a uniformly random orientation) are accepted when the body, dilated by the gap,
-// lies inside the region and overlaps no body placed before. Every random number is a
-// counter-based hash of (seed, candidate number, purpose), so the scene depends on the
-// seed only: the same on every rank and on any rank count, with no MPI involved.
+// lies inside the region and overlaps no body placed before. Addition alone jams well below
+// the haematocrit of blood (a large cell finds no hole once the free space is split into
+// many small ones), so when `stall_candidates` candidates in a row fail, the placed bodies
+// are shaken: Monte Carlo sweeps of small random displacements and rotations, each kept
+// when the moved body passes the same test, which gather the free space into holes a cell
+// fits in (the hard-body fluid samples its equilibrium, far from the jammed state); then
+// addition resumes. Every random number is a counter-based hash of (seed, counter,
+// purpose), so the scene depends on the seed only: the same on every rank and on any rank
+// count, with no MPI involved.
 //
 // Overlap and containment are decided on a lattice of points inside each body (spacing
 // `sample_spacing`, by default 1/12 of the smallest bounding radius): two bodies whose
@@ -45,8 +51,12 @@ struct SeedingRequest {
     real target_fraction = 0; ///< of the region's volume, for fill_kind
     real gap = 0;             ///< clearance kept between bodies and to the region's edge
     std::uint64_t seed = 1;
-    std::int64_t max_candidates = 200000;
-    real sample_spacing = 0; ///< 0: 1/12 of the smallest bounding radius
+    std::int64_t max_candidates = 200000; ///< candidate placements tried in all
+    /// Shake sweeps (every body moved once each) that may be spent; 0: addition only.
+    std::int64_t max_shake_sweeps = 2000;
+    std::int64_t stall_candidates = 1000; ///< failed candidates in a row that call a shake
+    int sweeps_per_stall = 10;            ///< sweeps of one shake
+    real sample_spacing = 0;              ///< 0: 1/12 of the smallest bounding radius
 };
 
 struct SeededBody {
@@ -60,7 +70,8 @@ struct SeedingResult {
     real achieved_fraction = 0; ///< volume of the fill kind / region volume
     bool reached = false;       ///< target fraction and every count reached
     std::int64_t candidates = 0;
-    std::string message; ///< what was reached, and why not when not
+    std::int64_t sweeps = 0; ///< shake sweeps spent
+    std::string message;     ///< what was reached, and why not when not
 };
 
 /// Place the bodies. Throws InputError for an inconsistent request (before any work).

@@ -171,6 +171,11 @@ SeedingReport expand_seeding(toml::table& root, TableReader& top, const GlobalGr
                         "grid cell");
     const int max_candidates = r.integer("max_candidates", 200000, Range::closed(1, 1e9),
                                          "candidate placements tried before giving up");
+    const int max_shake_sweeps =
+        r.integer("max_shake_sweeps", 2000, Range::closed(0, 1e6),
+                  "Monte Carlo sweeps (every cell moved once, by a small random step kept when "
+                  "it overlaps nothing) that may be spent when random addition stalls, to "
+                  "open space for more cells; 0: random sequential addition only");
     std::vector<Template> kinds;
     for (TableReader& k : r.tables("kind", "the kinds of cell: one [[seeding.kind]] each")) {
         Template t;
@@ -273,6 +278,7 @@ SeedingReport expand_seeding(toml::table& root, TableReader& top, const GlobalGr
     q.gap = gap;
     q.seed = std::uint64_t(seed);
     q.max_candidates = max_candidates;
+    q.max_shake_sweeps = max_shake_sweeps;
     const SeedingResult res = seed_bodies(q);
 
     rep.used = true;
@@ -284,6 +290,7 @@ SeedingReport expand_seeding(toml::table& root, TableReader& top, const GlobalGr
     rep.lumen_volume = q.region_volume;
     rep.gap = gap;
     rep.candidates = res.candidates;
+    rep.shake_sweeps = res.sweeps;
     rep.message = "seeding: " + res.message;
     if (!res.reached)
         throw InputError(fmt::format("seeding.target_haematocrit = {}: {}", target, res.message));

@@ -42,6 +42,7 @@ struct SeedingReport {
     real lumen_volume = 0; ///< [m^3] pi R^2 L of the vessel's lumen
     real gap = 0;          ///< [m] clearance kept between cells and to the wall
     std::int64_t candidates = 0;
+    std::int64_t shake_sweeps = 0;                   ///< Monte Carlo sweeps spent opening space
     std::vector<std::pair<std::string, int>> placed; ///< per kind: its name and count
     std::string message;                             ///< one line: what was placed
 };

@@ -55,6 +55,7 @@ nlohmann::json to_json(const SeedingReport& sr) {
             {"lumen_volume", sr.lumen_volume},
             {"gap", sr.gap},
             {"candidates", sr.candidates},
+            {"shake_sweeps", sr.shake_sweeps},
             {"placed", placed},
             {"message", sr.message}};
 }

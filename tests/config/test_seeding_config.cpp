@@ -125,6 +125,7 @@ TEST(SeedingConfig, AnUnreachableTargetSaysWhatWasReached) {
     EXPECT_THAT(m, HasSubstr("seeding.target_haematocrit = 0.6"));
     EXPECT_THAT(m, HasSubstr("NOT reached"));
     EXPECT_THAT(m, HasSubstr("rbc volume fraction"));
+    EXPECT_THAT(m, HasSubstr("shake sweeps"));
 }
 
 TEST(SeedingConfig, BadInputNamesTheKey) {
@@ -150,6 +151,10 @@ TEST(SeedingConfig, BadInputNamesTheKey) {
                 HasSubstr("seeding.sed"));
     EXPECT_THAT(input_error_of([] { case_from(seeding("target_haematocrit = 1.5\n")); }),
                 HasSubstr("seeding.target_haematocrit"));
+    EXPECT_THAT(input_error_of([] {
+                    case_from(seeding("target_haematocrit = 0.05\nmax_shake_sweeps = -1\n"));
+                }),
+                HasSubstr("seeding.max_shake_sweeps"));
 }
 
 TEST(SeedingConfig, RotationAxisAngleInvertsAxisAngleRotation) {
