@@ -26,13 +26,23 @@ namespace {
 /// A possible cause worth naming when a run with membranes blows up: with the layered
 /// extension of Gs (strain_extension = "layers"), Gs carried by the surface velocity over a
 /// wide reach is unstable for stiff membranes (docs/method.md, "The reach of the surface
-/// velocity, and stiff membranes"). Empty when no body qualifies.
+/// velocity, and stiff membranes"); with the reference map (the default), a body a few cells
+/// thick (docs/method.md, "The reference map"). Empty when no body qualifies.
 std::string membrane_instability_hint(const Config& cfg) {
-    std::string names;
-    for (const BodyConfig& b : cfg.bodies)
+    std::string names, maps;
+    for (const BodyConfig& b : cfg.bodies) {
         if (b.carried_by_surface_velocity() && b.strain_extension == StrainExtension::Layers &&
             b.surface_velocity_reach > SurfaceVelocity::stiff_membrane_reach)
             names += (names.empty() ? "'" : ", '") + b.name + "'";
+        if (b.carries_reference_map()) maps += (maps.empty() ? "'" : ", '") + b.name + "'";
+    }
+    if (names.empty() && !maps.empty())
+        return fmt::format(". Membranes carried by a reference map ({}) lose it where the body "
+                           "is only a few cells thick (the two faces' bands overlap: the tips "
+                           "of a strongly deformed capsule at d/16); refine the grid there or "
+                           "set body.strain_model = \"tensor\" (docs/method.md, \"The "
+                           "reference map\")",
+                           maps);
     if (names.empty()) return "";
     const real r = SurfaceVelocity::stiff_membrane_reach;
     return fmt::format(". Membranes with strain_extension = \"layers\" that carry Gs with the "
