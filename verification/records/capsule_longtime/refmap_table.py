@@ -6,7 +6,8 @@
 Reads the records in this folder (record.py) with capsule_longtime's own measure() and
 published steady values, and prints a markdown table: per run the strain model, the time
 reached, D at t = 1 / 2 / 3 / 5 / 10 (RP98 beside), the steady D over the last quarter and
-its error, max tr Gs over the band, the largest area change and the reference-area drift.
+its error, the largest |D - D_ref| over the reference curve's full range
+(capsule_longtime's max_abs_D_error_full), max tr Gs over the band, the largest area change and the reference-area drift.
 docs/method.md quotes its output (section "The reference map").
 """
 import sys
@@ -17,7 +18,7 @@ import numpy as np
 HERE = Path(__file__).resolve().parent
 sys.path.insert(0, str(HERE.parents[1] / "studies"))
 from _flowio import body_series  # noqa: E402
-from capsule_longtime import measure, steady_reference  # noqa: E402
+from capsule_longtime import full_range_error, measure, steady_reference  # noqa: E402
 
 # (record, strain model, Ca, law, C)
 RUNS = [
@@ -41,8 +42,9 @@ def d_at(t, D, when):
 
 def main() -> int:
     print("| run | strain model | t reached | D(1) | D(2) | D(3) | D(5) | D(10) | steady D "
-          "| published | error | max tr Gs | max area change | reference-area drift |")
-    print("|---" * 14 + "|")
+          "| published | error | max abs D error, full range | max tr Gs | max area change "
+          "| reference-area drift |")
+    print("|---" * 15 + "|")
     for name, model, ca, law, c in RUNS:
         rec = HERE / name
         if not (rec / "bodies.csv").exists():
@@ -53,13 +55,15 @@ def main() -> int:
         ref = None if "_bend" in name else steady_reference(ca, law, c)
         published = "-" if ref is None else f"{ref:.3f}"
         error = "-" if ref is None else f"{m['steady_D'] - ref:+.3f}"
+        full = full_range_error(t, D, ca, law, 1.0 if "_bend" in name else 0.0)
+        full = "-" if full is None else f"{full:.3f}"
         drift = m["reference_area_drift"]
         # (records made before reference_area left out rank-lost cells hold ~1e143)
         ref_drift = ("-" if drift is None else f"{drift:.2%}" if drift < 10
                      else "not measurable (rank-lost cells counted)")
         print(f"| {name} | {model} | {m['t_end']:.3g} ({m['status']}) | "
               + " | ".join(d_at(t, D, w) for w in (1, 2, 3, 5, 10))
-              + f" | {m['steady_D']:.3f} | {published} | {error} "
+              + f" | {m['steady_D']:.3f} | {published} | {error} | {full} "
               f"| {m['max_trace_Gs']:.2f} | {m['max_area_change']:.1%} | {ref_drift} |")
     return 0
 
