@@ -43,6 +43,23 @@ inline real second_invariant(const Matrix3& A) {
     return 0.5 * (tr * tr - tr2);
 }
 
+/// P A P (P = I - n n) of a symmetric A, over the first `dim` rows and columns:
+/// A - n (A n)^T - (A n) n^T + (n.A.n) n n^T.
+inline Matrix3 tangential_part(const Matrix3& A, const Real3& n, int dim) {
+    Real3 an{0, 0, 0};
+    for (int a = 0; a < dim; ++a)
+        for (int b = 0; b < dim; ++b)
+            an[a] += A[a][b] * n[b];
+    real n_an = 0;
+    for (int a = 0; a < dim; ++a)
+        n_an += n[a] * an[a];
+    Matrix3 T{};
+    for (int a = 0; a < dim; ++a)
+        for (int b = 0; b < dim; ++b)
+            T[a][b] = A[a][b] - n[a] * an[b] - an[a] * n[b] + n_an * n[a] * n[b];
+    return T;
+}
+
 /// Kinematics from a unit normal n and the (symmetric) surface tensor Gs.
 inline MembraneKinematics membrane_kinematics(const Real3& n, const Matrix3& Gs) {
     MembraneKinematics k;

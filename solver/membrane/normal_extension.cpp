@@ -4,6 +4,7 @@
 #include "core/error.hpp"
 #include "core/matrix3.hpp"
 #include "interface/geometry.hpp"
+#include "membrane/kinematics.hpp"
 #include "membrane/reference_map.hpp"
 #include "operators/flow_operators.hpp"
 
@@ -252,17 +253,11 @@ void NormalExtension::apply_reference_map(Body& body, bool whole_band) {
                 }
             }
             // Q = (I - s P H P)^-1 (the z row and column stay I in 2D).
-            Real3 hn{0, 0, 0};
-            for (int a = 0; a < dim; ++a)
-                for (int b = 0; b < dim; ++b)
-                    hn[a] += H[a][b] * n[b];
-            real nhn = 0;
-            for (int a = 0; a < dim; ++a)
-                nhn += n[a] * hn[a];
+            const Matrix3 W = tangential_part(H, n, dim);
             Matrix3 Q = identity_matrix();
             for (int a = 0; a < dim; ++a)
                 for (int b = 0; b < dim; ++b)
-                    Q[a][b] -= s * (H[a][b] - n[a] * hn[b] - hn[a] * n[b] + nhn * n[a] * n[b]);
+                    Q[a][b] -= s * W[a][b];
             // Valid where the parallel surfaces are those of a distance: every tangential
             // eigenvalue of I - s W in [1/2, 2] (1 - s k for curvatures k of the surface).
             // Not so where the two faces' bands overlap (a capsule a few cells thick, its

@@ -1,6 +1,7 @@
 #include "membrane/reference_map.hpp"
 
 #include "core/matrix3.hpp"
+#include "membrane/kinematics.hpp"
 
 namespace efsi {
 
@@ -11,17 +12,11 @@ Matrix3 surface_tensor_from_map(const Matrix3& gx, const Real3& n, int dim) {
         for (int b = 0; b < dim; ++b)
             for (int c = 0; c < dim; ++c)
                 C[a][b] += gx[c][a] * gx[c][b];
-    Real3 cn{0, 0, 0};
-    for (int a = 0; a < dim; ++a)
-        for (int b = 0; b < dim; ++b)
-            cn[a] += C[a][b] * n[b];
-    real ncn = 0;
-    for (int a = 0; a < dim; ++a)
-        ncn += n[a] * cn[a];
+    const Matrix3 T = tangential_part(C, n, dim);
     Matrix3 M = identity_matrix(); // the z row and column stay 1 in 2D (no z stretch)
     for (int a = 0; a < dim; ++a)
         for (int b = 0; b < dim; ++b)
-            M[a][b] = C[a][b] - n[a] * cn[b] - cn[a] * n[b] + ncn * n[a] * n[b] + n[a] * n[b];
+            M[a][b] = T[a][b] + n[a] * n[b];
     Matrix3 G = inverse(M);
     for (int a = 0; a < dim; ++a)
         for (int b = 0; b < dim; ++b)
