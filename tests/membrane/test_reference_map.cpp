@@ -143,8 +143,6 @@ Result run(int dim, int m, bool rest) {
                     const real e = std::abs(G.value(a, b, p) - E[a][b]);
                     res.band_error = std::max(res.band_error, e);
                 }
-        }
-        if (std::abs(sd) <= band && rr > 0.5 * kRadius) {
             // Gs n with the grid's own normal (central differences of psi, as the extension).
             auto psi = [&](int di, int dj, int dk) {
                 const real v =
