@@ -399,8 +399,8 @@ std::vector<BodyDiagnostics> BodySystem::measure() const {
                 if (membrane) {
                     Matrix3 Gs{};
                     for (int r = 0; r < 3; ++r)
-                        for (int c = 0; c < 3; ++c)
-                            Gs[r][c] = T.value(r, c, p);
+                        for (int q = 0; q < 3; ++q)
+                            Gs[r][q] = T.value(r, q, p);
                     // A cell whose stored Gs has lost rank (J < 1e-3: no membrane stretch
                     // there, e.g. a cell the extension has not filled) is left out: the
                     // force leaves it out too (membrane_force.hpp, the band's J criterion),

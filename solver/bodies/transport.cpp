@@ -169,11 +169,11 @@ void rate_rows(const Box& box, const SymmetricTensorField* t, const std::vector<
                         for (int i = 0; i < n0; ++i)
                             l[i] = (ua[i + sa] - ua[i]) * ia;
                     } else {
-                        const std::ptrdiff_t sc = su[c];
+                        const std::ptrdiff_t so = su[c];
                         const real ic = inv[c];
                         for (int i = 0; i < n0; ++i) {
-                            const real c1 = ua[i + sc] - ua[i - sc];
-                            const real c2 = ua[i + sa + sc] - ua[i + sa - sc];
+                            const real c1 = ua[i + so] - ua[i - so];
+                            const real c2 = ua[i + sa + so] - ua[i + sa - so];
                             l[i] = 0.25 * (c1 + c2) * ic;
                         }
                     }

@@ -117,6 +117,12 @@ std::vector<BodyConfig> read_bodies(TableReader& top, const GlobalGrid& grid,
                      "membrane: bending modulus Eb of the moment m = Eb (kappa - kappa_R P) "
                      "(0: no bending); kappa_R starts as the initial shape's curvature (mean "
                      "curvature in 3D, the section's in 2D)");
+        b.viscosity_ratio =
+            r.number("viscosity_ratio", 1.0, Range::positive(), "-",
+                     "membrane: viscosity of the enclosed fluid over fluid.viscosity (lambda; "
+                     "1: one viscosity and the FFT viscous solve; otherwise mu varies with "
+                     "phi and the viscous solve is hypre's variable-coefficient one; red "
+                     "cells: ~5, physiological)");
         b.strain_velocity =
             read_choice(r, "strain_velocity", StrainVelocity::Surface, strain_velocity_names,
                         "membrane: velocity that carries Gs: surface (the velocity on phi = 1/2, "
@@ -221,6 +227,9 @@ std::vector<BodyConfig> read_bodies(TableReader& top, const GlobalGrid& grid,
             throw InputError(at + ": elastic_modulus is for kind = \"membrane\"");
         if (b.kind != BodyKind::Membrane && b.bending_modulus != 0)
             throw InputError(at + ": bending_modulus is for kind = \"membrane\"");
+        if (b.kind != BodyKind::Membrane && b.viscosity_ratio != 1)
+            throw InputError(at + ": viscosity_ratio is for kind = \"membrane\" (a solid's "
+                                  "own viscosity is body.solid_viscosity)");
         if (b.interface == InterfaceKind::Smoothed &&
             (b.shape == BodyShape::Box || b.shape == BodyShape::Mask))
             throw InputError(at + ": interface = \"smoothed\" needs a sphere, ellipsoid, "

@@ -101,6 +101,8 @@ struct BodyConfig {
     real elastic_modulus = 0; ///< Es [N/m]
     real area_dilation = 1;   ///< Skalak's C (alpha)
     real bending_modulus = 0; ///< Eb [N m] of m = Eb (kappa - kappa_R P); 0: no bending
+    /// Viscosity of the enclosed fluid over the fluid's (lambda); 1: one viscosity.
+    real viscosity_ratio = 1;
     /// Velocity that carries Gs: "surface" (the surface's, extended along the normals:
     /// every layer of the band shares the membrane's strain) or "local" (each layer its own).
     StrainVelocity strain_velocity = StrainVelocity::Surface;

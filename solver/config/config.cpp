@@ -438,6 +438,10 @@ LinearSolverChoice choose_linear_solvers(const Config& c) {
             obstacle = fmt::format("body '{}' has solid_viscosity {} != fluid.viscosity {} "
                                    "(the viscosity varies in space)",
                                    b.name, b.solid_viscosity, c.fluid.viscosity);
+        else if (b.kind == BodyKind::Membrane && b.viscosity_ratio != 1)
+            obstacle = fmt::format("body '{}' has viscosity_ratio {} (the viscosity varies in "
+                                   "space)",
+                                   b.name, b.viscosity_ratio);
     }
     const std::string& vm = c.viscous_solver.method;
     out.viscous_fft = obstacle.empty() && (vm == "auto" || vm == "fft");

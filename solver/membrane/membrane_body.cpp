@@ -4,6 +4,7 @@
 #include "interface/shapes.hpp"
 #include "membrane/surface_velocity.hpp"
 
+#include <algorithm>
 #include <cmath>
 
 namespace efsi {
@@ -45,11 +46,13 @@ MembraneBody::MembraneBody(const BodyConfig& b, const BodyContext& ctx) : BodyPh
     if (b.profile_iterations > 0)
         reinit_ = std::make_unique<ConservativeReinit>(ctx.halos, b.smoothing_width,
                                                        b.profile_iterations);
-    const real membrane = membrane_time_step_limit(run.grid, run.fluid.density, run.fluid.viscosity,
-                                                   law_->stiffest_modulus());
+    // The smaller of the two viscosities the band mixes damps the membrane's modes.
+    const real mu = std::min(real(1), b.viscosity_ratio) * run.fluid.viscosity;
+    const real membrane =
+        membrane_time_step_limit(run.grid, run.fluid.density, mu, law_->stiffest_modulus());
     if (membrane > 0) limits_.push_back({"membrane", membrane});
-    const real bending = bending_time_step_limit(run.grid, run.fluid.density, run.fluid.viscosity,
-                                                 b.bending_modulus);
+    const real bending =
+        bending_time_step_limit(run.grid, run.fluid.density, mu, b.bending_modulus);
     if (bending > 0) limits_.push_back({"bending", bending});
 }
 

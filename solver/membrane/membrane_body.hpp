@@ -41,6 +41,8 @@ class MembraneBody final : public BodyPhysics {
     void initialise(Body& body, const Shape* shape) override;
     bool adds_force() const override { return true; }
     void add_force(Body& body, VelocityField& force) override;
+    /// The enclosed fluid's viscosity, viscosity_ratio x the fluid's.
+    real viscosity() const override { return cfg_.viscosity_ratio * ctx_.run.fluid.viscosity; }
     const MembraneLaw& law() const { return *law_; }
 
   protected:

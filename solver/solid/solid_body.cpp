@@ -18,7 +18,8 @@ SolidBody::SolidBody(const BodyConfig& body, const BodyContext& ctx) : BodyPhysi
     // B is extended from the solid's mostly solid cells into the rest (docs/method.md).
     if (body.extension_threshold > 0)
         extension_ = std::make_unique<TensorExtension>(ctx.halos, body.extension_threshold, 4);
-    const real dt = elastic_time_step_limit(ctx.run.grid, ctx.run.fluid.density, {law_});
+    const real dt = elastic_time_step_limit(ctx.run.grid, ctx.run.fluid.density,
+                                            ctx.run.fluid.viscosity, {law_});
     if (dt > 0) limits_.push_back({"elastic", dt});
 }
 

@@ -13,7 +13,7 @@
 namespace efsi {
 
 /// A free neo-Hookean solid: sigma_s' = 2 mu_s D' + G B'. Its time-step limit is "elastic",
-/// the shear-wave limit of elastic_time_step_limit.
+/// elastic_time_step_limit (shear waves, or viscous relaxation where that is larger).
 class SolidBody final : public BodyPhysics {
   public:
     SolidBody(const BodyConfig& body, const BodyContext& ctx);

@@ -72,19 +72,28 @@ void add_elastic_force(VelocityField& force, const Body& body, const SolidLaw& l
     }
 }
 
-real elastic_time_step_limit(const GlobalGrid& g, real density, const std::vector<SolidLaw>& laws) {
-    real gmax = 0;
-    for (const auto& l : laws)
-        gmax = std::max(gmax, l.shear_modulus);
-    if (gmax <= 0) return 0;
+real elastic_time_step_limit(const GlobalGrid& g, real density, real fluid_viscosity,
+                             const std::vector<SolidLaw>& laws) {
     real h = g.dx(0);
     for (int d = 1; d < g.dim; ++d)
         h = std::min(h, g.dx(d));
-    // Half the shear-wave CFL limit: the elastic force is explicit (AB2), whose stability
-    // region barely reaches the imaginary axis, so undamped waves are held only by the
-    // viscosity; with h / c the stiff parallel slab blew up at 1.5x the automatic dt
-    // (stability study), with h / (2c) the automatic dt keeps a margin of 2 or more.
-    return 0.5 * h / std::sqrt(gmax / density);
+    real limit = 0;
+    for (const auto& l : laws) {
+        if (l.shear_modulus <= 0) continue;
+        // Half the shear-wave CFL limit: AB2's stability region barely reaches the
+        // imaginary axis, so undamped waves are held only by the viscosity; with h / c the
+        // stiff parallel slab blew up at 1.5x the automatic dt (stability study), with
+        // h / (2c) the automatic dt keeps a margin of 2 or more.
+        const real waves = 0.5 * h / std::sqrt(l.shear_modulus / density);
+        // Viscous relaxation: per Fourier mode, AB2 elasticity with Crank-Nicolson
+        // viscosity (the elastic and viscous stresses share their stencils) is stable for
+        // every wavenumber when G dt / mu <= 1; mu is the smaller of the two viscosities a
+        // cell of the solid's interface mixes.
+        const real relaxation = std::min(fluid_viscosity, l.viscosity) / l.shear_modulus;
+        const real dt = std::max(waves, relaxation);
+        limit = limit > 0 ? std::min(limit, dt) : dt;
+    }
+    return limit;
 }
 
 } // namespace efsi

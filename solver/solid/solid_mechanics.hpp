@@ -34,9 +34,13 @@ void update_mixture_viscosity(Field& mu, real fluid_viscosity,
 void add_elastic_force(VelocityField& force, const Body& body, const SolidLaw& law,
                        const GlobalGrid& grid, const LocalBlock& block);
 
-/// Step limit for the elastic shear waves: min(dx) / (2 sqrt(G_max / rho)) (0 if none);
-/// the factor 1/2 is the measured margin of the explicit (AB2) elastic force.
-real elastic_time_step_limit(const GlobalGrid& grid, real density,
+/// Step limit of the explicit (AB2) elastic force, the smallest over the solids of
+///   max(min(dx) / (2 sqrt(G / rho)), min(mu_f, mu_s) / G)   (0 if no solid has a G):
+/// the shear-wave limit (its factor 1/2 the measured margin of AB2 for weakly damped waves)
+/// or, where viscosity damps every mode the grid holds, the viscous-relaxation limit
+/// G dt / mu <= 1, under which the AB2 force with the Crank-Nicolson viscous term is stable
+/// for every wavenumber and any density (docs/method.md, "Solids in the time step").
+real elastic_time_step_limit(const GlobalGrid& grid, real density, real fluid_viscosity,
                              const std::vector<SolidLaw>& laws);
 
 } // namespace efsi

@@ -104,6 +104,26 @@ radius = 0.2
     EXPECT_THROW(make_membrane_law("mooney", 1.0), InputError);
 }
 
+TEST(BodyConfig, ViscosityRatioIsAPositiveMembraneKey) {
+    EXPECT_EQ(case_from(membrane("")).bodies[0].viscosity_ratio, 1.0);
+    EXPECT_EQ(case_from(membrane("viscosity_ratio = 5.0\n")).bodies[0].viscosity_ratio, 5.0);
+    EXPECT_THAT(input_error_of([&] { case_from(membrane("viscosity_ratio = 0.0\n")); }),
+                HasSubstr("body[0].viscosity_ratio"));
+    EXPECT_THAT(input_error_of([&] {
+                    case_from(box + R"(
+[[body]]
+name = "particle"
+kind = "solid"
+shear_modulus = 1.0
+viscosity_ratio = 5.0
+shape = "sphere"
+centre = [0.6, 0.5, 0.0]
+radius = 0.2
+)");
+                }),
+                HasSubstr("viscosity_ratio is for kind = \"membrane\""));
+}
+
 TEST(BodyConfig, MembraneKeysBelongToMembranes) {
     EXPECT_THAT(input_error_of([&] {
                     case_from(box + R"(

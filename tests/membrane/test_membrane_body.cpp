@@ -5,6 +5,7 @@
 #include "membrane/membrane_body.hpp"
 #include "membrane/membrane_force.hpp"
 
+#include <algorithm>
 #include <cmath>
 
 using namespace efsi;
@@ -68,4 +69,53 @@ TEST(MembraneLimit, ViscousAtLowReynoldsInertialAtHigh) {
     EXPECT_DOUBLE_EQ(membrane_time_step_limit(g, 1e-6, 1.0, 2.0), 4 * 1.0 * h / 2.0);
     EXPECT_DOUBLE_EQ(membrane_time_step_limit(g, 1e3, 1e-9, 2.0),
                      std::sqrt(1e3 * h * h * h / (2 * 3.141592653589793 * 2.0)));
+}
+
+TEST(MembraneBody, ViscosityRatioSetsTheEnclosedFluidsViscosity) {
+    const std::string capsule = R"(
+[[body]]
+name = "capsule"
+kind = "membrane"
+elastic_modulus = 0.5
+shape = "cylinder"
+centre = [0.6, 0.5, 0.0]
+radius = 0.25
+interface = "smoothed"
+)";
+    for (const real ratio : {5.0, 0.2}) {
+        Bodies s(grid_2d() + capsule + "viscosity_ratio = " + std::to_string(ratio) + "\n");
+        const auto* m = dynamic_cast<const MembraneBody*>(&s.physics(0));
+        ASSERT_NE(m, nullptr);
+        EXPECT_DOUBLE_EQ(m->viscosity(), ratio * 0.1);
+        EXPECT_TRUE(s.system.viscosity_varies());
+        // The membrane's limit takes the smaller of the two viscosities.
+        EXPECT_EQ(m->time_step_limits()[0].dt,
+                  membrane_time_step_limit(s.cfg.grid, 2.0, std::min(1.0, ratio) * 0.1,
+                                           m->law().stiffest_modulus()));
+        // mu = mu_f + phi (lambda - 1) mu_f in every cell: lambda mu_f at the centre and mu_f
+        // far outside, but for the tanh profile's tails (phi = 1 - 3e-4 at 4 cells in).
+        Field mu("mu", Location::Cell, s.dec.block(), s.dec.dim(), 1);
+        s.system.update_viscosity(mu);
+        const Body& b = s.body(0);
+        const Field& phi = b.phi();
+        real mix = 0, centre = 0, far = 0;
+        const GlobalGrid& g = s.cfg.grid;
+        for_each_in(mu.owned(), [&](int i, int j, int k) {
+            const Real3 x = position(g, s.dec.block(), Location::Cell, i, j, k);
+            const real r = std::hypot(x[0] - 0.6, x[1] - 0.5);
+            const Box& pl = b.patch().local;
+            const bool on = !b.patch().empty() && i >= pl.lo[0] && i < pl.hi[0] && j >= pl.lo[1] &&
+                            j < pl.hi[1] && k >= pl.lo[2] && k < pl.hi[2];
+            const real f = on ? phi(i, j, k) : 0;
+            mix = std::max(mix, std::abs(mu(i, j, k) - 0.1 * (1 + f * (ratio - 1))));
+            if (r < 0.05) centre = std::max(centre, std::abs(mu(i, j, k) / (ratio * 0.1) - 1));
+            if (r > 0.45) far = std::max(far, std::abs(mu(i, j, k) / 0.1 - 1));
+        });
+        EXPECT_LT(efsi::test::global_max(mix), 1e-15);
+        EXPECT_LT(efsi::test::global_max(centre), 2e-3);
+        EXPECT_LT(efsi::test::global_max(far), 2e-3);
+    }
+    // Ratio 1 (the default): one viscosity.
+    Bodies one(grid_2d() + capsule);
+    EXPECT_FALSE(one.system.viscosity_varies());
 }

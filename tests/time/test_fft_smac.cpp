@@ -189,6 +189,22 @@ shear_modulus = 1.0
     EXPECT_TRUE(c.pressure_fft);
     EXPECT_FALSE(c.viscous_fft);
     EXPECT_THAT(c.viscous_reason, ::testing::HasSubstr("disc"));
+    // A membrane enclosing a fluid of another viscosity: hypre, and the log says why.
+    const std::string membrane = base.substr(0, base.find("[[body]]")) + R"(
+[[body]]
+name = "cell"
+kind = "membrane"
+shape = "cylinder"
+centre = [0.5, 0.5, 0.0]
+radius = 0.2
+interface = "smoothed"
+elastic_modulus = 1.0
+)";
+    EXPECT_TRUE(choose_linear_solvers(case_from(membrane)).viscous_fft);
+    c = choose_linear_solvers(case_from(membrane, {{"body[0].viscosity_ratio", "5.0"}}));
+    EXPECT_TRUE(c.pressure_fft);
+    EXPECT_FALSE(c.viscous_fft);
+    EXPECT_THAT(c.viscous_reason, ::testing::HasSubstr("viscosity_ratio"));
     // Asking for the FFT there is an error naming the key.
     const std::string msg = test::input_error_of([&] {
         case_from(base, {{"body[0].solid_viscosity", "0.5"}, {"solver.viscous.method", "fft"}});
