@@ -5,6 +5,7 @@
 #include "io/hdf5_file.hpp"
 #include "linear/structured_solver.hpp"
 #include "parallel/decomposition.hpp"
+#include "simulation/run_estimate.hpp"
 #include "simulation/simulation.hpp"
 
 #include <CLI/CLI.hpp>
@@ -125,6 +126,12 @@ int main(int argc, char** argv) {
             app.add_subcommand("check", "validate a case and print the resolved configuration");
         check->add_option("case", case_path, "case folder or .toml file")->required();
         check->add_option("--set", sets, "override a case key: section.key=value (repeatable)");
+        int estimate_ranks = 0;
+        check
+            ->add_option("--ranks", estimate_ranks,
+                         "estimate memory per rank and cost for this many ranks (default: the "
+                         "ranks it runs on)")
+            ->check(CLI::Range(1, 1 << 20));
 
         auto* keys = app.add_subcommand("keys", "print the table of every case key (Markdown)");
 
@@ -139,11 +146,13 @@ int main(int argc, char** argv) {
                 Decomposition::choose_ranks(size, cfg.grid, cfg.ranks);
                 check_memory(cfg, size);
                 if (*check) {
+                    const int n = estimate_ranks > 0 ? estimate_ranks : size;
                     if (rank == 0)
                         std::cout << fmt::format(
                                          "# case '{}' is valid ({}D, {} cells, {} rank(s))\n",
                                          cfg.name, cfg.grid.dim, cfg.grid.total_cells(), size)
-                                  << cfg.resolved_toml << "\n";
+                                  << describe(estimate_run(cfg, n), cfg, n) << cfg.resolved_toml
+                                  << "\n";
                 } else {
                     RunOptions opt;
                     opt.output_dir = output.empty() ? fs::path("out") / cfg.name : fs::path(output);

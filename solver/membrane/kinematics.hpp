@@ -19,10 +19,6 @@
 
 namespace efsi {
 
-/// The name membrane_force.cpp still uses for Matrix3 (core/types.hpp); to be dropped
-/// once that file is renamed too.
-using Tensor33 = Matrix3;
-
 struct MembraneKinematics {
     Matrix3 P{};  ///< I - n n
     Matrix3 Bs{}; ///< P Gs P

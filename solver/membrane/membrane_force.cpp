@@ -18,9 +18,9 @@ bool inside(const Box& b, const Int3& p) {
 
 } // namespace
 
-Tensor33 membrane_stress_at(const Field& phi, const SymmetricTensorField& Gs,
-                            const MembraneLaw& law, const GlobalGrid& g,
-                            const MembraneForceSettings& s, const Int3& p, bool& in_band) {
+Matrix3 membrane_stress_at(const Field& phi, const SymmetricTensorField& Gs, const MembraneLaw& law,
+                           const GlobalGrid& g, const MembraneForceSettings& s, const Int3& p,
+                           bool& in_band) {
     const real eps = s.smoothing_width * g.dx(0);
     in_band = false;
     const int r2 = g.dim == 3 ? 1 : 0;
@@ -28,7 +28,7 @@ Tensor33 membrane_stress_at(const Field& phi, const SymmetricTensorField& Gs,
         for (int b = -1; b <= 1; ++b)
             for (int a = -1; a <= 1; ++a) {
                 const real v = phi(p[0] + a, p[1] + b, p[2] + c);
-                if (!(v > s.band_cutoff && v < 1 - s.band_cutoff)) return Tensor33{};
+                if (!(v > s.band_cutoff && v < 1 - s.band_cutoff)) return Matrix3{};
             }
     const Real3 gr = gradient_at(phi, g, p, s.stencil, eps);
     const real mag = std::sqrt(gr[0] * gr[0] + gr[1] * gr[1] + gr[2] * gr[2]);
@@ -43,10 +43,10 @@ Tensor33 membrane_stress_at(const Field& phi, const SymmetricTensorField& Gs,
     }
     in_band = mag > 0;
     if (s.stencil == GradientStencil::Distance && mag < s.min_distance_gradient) in_band = false;
-    Tensor33 S{};
+    Matrix3 S{};
     if (!in_band) return S;
     const Real3 n{gr[0] / mag, gr[1] / mag, gr[2] / mag};
-    Tensor33 G{};
+    Matrix3 G{};
     for (int a = 0; a < 3; ++a)
         for (int b = 0; b < 3; ++b)
             G[a][b] = Gs.value(a, b, p);
@@ -60,7 +60,7 @@ Tensor33 membrane_stress_at(const Field& phi, const SymmetricTensorField& Gs,
         in_band = false;
         return S;
     }
-    const Tensor33 tau = law.tension(kin);
+    const Matrix3 tau = law.tension(kin);
     for (int a = 0; a < 3; ++a)
         for (int b = 0; b < 3; ++b)
             S[a][b] = delta * tau[a][b];
@@ -146,7 +146,7 @@ void MembraneForce::add(Body& body, const MembraneLaw& law, VelocityField& force
     for_each_in(grown, [&](int i, int j, int k) {
         const Int3 q{i, j, k};
         bool in_band = false;
-        const Tensor33 S =
+        const Matrix3 S =
             membrane_stress_at(body.phi(), body.tensor(), law, g_, settings_, q, in_band);
         if (!in_band) return;
         for (int a = 0; a < dim; ++a)
@@ -223,7 +223,7 @@ void MembraneForce::add_bending(Body& body, VelocityField& force) {
         Real3 n{0, 0, 0};
         for (int a = 0; a < dim; ++a)
             n[a] = gr[a] / mag;
-        Tensor33 H{};
+        Matrix3 H{};
         const real p0 = psi_(c);
         for (int a = 0; a < dim; ++a) {
             const Int3 ea = unit(a);
@@ -239,11 +239,11 @@ void MembraneForce::add_bending(Body& body, VelocityField& force) {
                 H[a][b] = H[b][a] = (at(1, 1) - at(1, -1) - at(-1, 1) + at(-1, -1)) / (4 * h * h);
             }
         }
-        Tensor33 P{};
+        Matrix3 P{};
         for (int a = 0; a < dim; ++a)
             for (int b = 0; b < dim; ++b)
                 P[a][b] = (a == b ? 1.0 : 0.0) - n[a] * n[b];
-        Tensor33 PH{};
+        Matrix3 PH{};
         for (int a = 0; a < dim; ++a)
             for (int b = 0; b < dim; ++b)
                 for (int e = 0; e < dim; ++e)
@@ -287,7 +287,7 @@ void MembraneForce::add_bending(Body& body, VelocityField& force) {
         Real3 n{0, 0, 0};
         for (int a = 0; a < dim; ++a)
             n[a] = n_[a](c);
-        Tensor33 P{};
+        Matrix3 P{};
         for (int a = 0; a < dim; ++a)
             for (int b = 0; b < dim; ++b)
                 P[a][b] = (a == b ? 1.0 : 0.0) - n[a] * n[b];

@@ -30,8 +30,13 @@ Metrics (result.json):
   included) of sum max(0, phi_i + phi_j - 1) dV / min(V_i, V_j) (docs/method.md, "Body
   overlap measure");
 - `volume_drift_max`: max over the moving bodies of |V(t_end) / V(0) - 1| (bodies.csv);
+- `t_end_ms_<run>`, `reached_end_<run>`: the time each run reached and whether it was the
+  asked end (a run that stops UNSTABLE is measured up to there and breaks the bound);
 - `seconds_per_ms_physical`: wall seconds of the run with cells per ms of physical time,
-  with `ranks` and the load in the table.
+  with `ranks` and the load in the table;
+- `rate_*` (runs on one rank only): the bytes and seconds per cell and per body patch cell
+  that `efsi check` estimates a run's memory and cost with (estimate_rates below;
+  solver/simulation/run_estimate.cpp holds them, docs/performance.md shows them).
 
 Tiers: ci 3 steps of each run at Ht 3 % with a gap of one cell (the machinery, overlap and
 volume only; a flow 3 steps old has no flow rate worth comparing); quick to 0.5 ms and full
@@ -47,6 +52,7 @@ import h5py
 import numpy as np
 
 from _bounds import Bound
+from _flowio import cached_run
 
 DESCRIPTION = "blood in a capillary: Ht, apparent viscosity, cell-free layer, platelets, overlap"
 
@@ -59,6 +65,8 @@ BOUNDS = [
           "no two bodies' volume fractions overlap by more than 1e-3 of the smaller one"),
     Bound(r"volume_drift_max", "<=", 1e-9, "every body keeps its volume"),
     Bound(r"achieved_ht", ">=", 0.19, "the seeding reaches the paper's Ht of about 20 %",
+          tiers=_QF),
+    Bound(r"reached_end_.*", "==", 1, "every run reaches its end time (no UNSTABLE stop)",
           tiers=_QF),
     Bound(r"relative_apparent_viscosity$", ">=", 1.0,
           "red cells raise the apparent viscosity", tiers=_QF),
@@ -202,6 +210,57 @@ def volume_drift(per: dict) -> float:
     return worst
 
 
+FLOW_STAGES = ("advection", "predictor", "viscous_solve", "pressure_solve", "correction", "halo")
+
+
+def _body_seconds(s: dict) -> float:
+    return sum(v for k, v in s["stages"].items()
+               if k.startswith("bodies") or k in ("body_stress", "diagnostics"))
+
+
+def _patch(s: dict, prefix: str) -> float:
+    return float(sum(b["patch_cells"] for b in s.get("bodies", []) if b["name"].startswith(prefix)))
+
+
+def estimate_rates(summary: dict) -> dict:
+    """The rates `efsi check` turns a case into memory and time with
+    (solver/simulation/run_estimate.cpp), measured on these runs (one rank):
+    - the flow with hypre's viscous solve: the plasma run's flow stages per cell and step;
+      the process's base memory: its peak RSS less the flow's bytes per cell;
+    - a solid's patch cell: the platelets-alone run's body stages per platelet patch cell and
+      step, and its peak RSS above the plasma run's per platelet patch cell;
+    - a membrane's patch cell: the same between the run with red cells and the platelets
+      alone (the platelets' share removed with the solid rate)."""
+    if any(s.get("ranks", 1) != 1 for s in summary.values()):
+        return {}
+    pl, sol, cel = summary["plasma"], summary["platelets"], summary["cells"]
+    cells = float(pl["cells"])
+    out = {"rate_flow_seconds_per_cell_step_hypre":
+           sum(pl["stages"].get(k, 0.0) for k in FLOW_STAGES) / pl["steps"] / cells}
+    # At 65 536 cells the process itself (MPI, hypre, FFTW, libraries) outweighs the fields:
+    # its base is the plasma run's peak RSS less the flow's bytes per cell, taken from the
+    # throughput study's 128^3 run (verification/results/throughput, where the base is a
+    # small part).
+    tp = Path(__file__).resolve().parents[1] / "results" / "throughput" / "result.json"
+    if tp.exists():
+        per_cell = json.loads(tp.read_text())["metrics"]["bytes_per_cell"]
+        out["rate_flow_bytes_per_cell"] = per_cell
+        out["rate_process_base_bytes"] = pl["peak_rss_bytes_max_rank"] - per_cell * cells
+    p_sol = _patch(sol, "platelet")
+    out["rate_solid_seconds_per_patch_cell_step"] = _body_seconds(sol) / sol["steps"] / p_sol
+    out["rate_solid_bytes_per_patch_cell"] = (
+        (sol["peak_rss_bytes_max_rank"] - pl["peak_rss_bytes_max_rank"]) / p_sol)
+    p_mem, p_sol_c = _patch(cel, "rbc"), _patch(cel, "platelet")
+    if p_mem > 0:
+        solid_share = out["rate_solid_seconds_per_patch_cell_step"] * p_sol_c
+        out["rate_membrane_seconds_per_patch_cell_step"] = (
+            (_body_seconds(cel) / cel["steps"] - solid_share) / p_mem)
+        out["rate_membrane_bytes_per_patch_cell"] = (
+            (cel["peak_rss_bytes_max_rank"] - sol["peak_rss_bytes_max_rank"]
+             - out["rate_solid_bytes_per_patch_cell"] * (p_sol_c - p_sol)) / p_mem)
+    return out
+
+
 def run(ctx):
     tier = TIERS[ctx.tier]
     sets = {"output.progress_every": "100000", "output.checkpoint_every": "100"}
@@ -223,11 +282,22 @@ def run(ctx):
     for key, case in runs.items():
         out[key] = ctx.outdir / "runs" / key
         extra = cell_sets if key == "cells" else {}
-        summary[key] = ctx.run_efsi(case, out[key], sets={**sets, **extra}, ranks=ctx.long_ranks)
+        # A finished run is measured again, not rerun (the full tier's takes most of an hour).
+        if tier["t_end"] is None:  # ci: a few steps (status max_steps), always rerun
+            ctx.run_efsi(case, out[key], sets={**sets, **extra}, ranks=ctx.long_ranks)
+        else:
+            # A run that stops UNSTABLE is a result: measured up to where it stopped.
+            cached_run(ctx, case, out[key], {**sets, **extra}, tier["t_end"],
+                       ranks=ctx.long_ranks, allow_unstable=True)
+        summary[key] = json.loads((out[key] / "summary.json").read_text())
     h = 44.0 / 64
     t_end = float(summary["cells"]["time"])
     half = 0.5 * t_end
     metrics = {"achieved_ht": float(summary["cells"]["seeding"]["achieved_haematocrit"])}
+    if tier["t_end"] is not None:
+        for k in runs:
+            metrics[f"t_end_ms_{k}"] = float(summary[k]["time"])
+            metrics[f"reached_end_{k}"] = int(summary[k]["status"] == "completed")
     per = {k: bodies(out[k]) for k in ("cells", "platelets")}
     metrics["volume_drift_max"] = max(volume_drift(per["cells"]), volume_drift(per["platelets"]))
     snaps = {k: snapshots(out[k]) for k in runs}
@@ -249,12 +319,13 @@ def run(ctx):
     metrics["platelet_radial_rms_fluctuation_with_rbc_um"] = rms_fluctuation(radii["cells"], half)
     metrics["platelet_radial_rms_fluctuation_without_rbc_um"] = rms_fluctuation(
         radii["platelets"], half)
-    rows = [{"run": k, "t_end [ms]": float(summary[k]["time"]),
+    rows = [{"run": k, "t_end [ms]": float(summary[k]["time"]), "status": summary[k]["status"],
              "steps": summary[k]["steps"], "ranks": summary[k]["ranks"],
              "wall [s]": round(float(summary[k]["wall_seconds"]), 1),
              "load before": summary[k].get("load_before"),
              "flow rate [um^3/ms]": round(q[k], 2),
              "bodies": len(summary[k].get("bodies", []))} for k in runs]
+    metrics.update(estimate_rates(summary))
     # Statistics a run too short to have (the ci tier's 3 steps) are left out, not NaN.
     metrics = {k: v for k, v in metrics.items() if np.isfinite(v)}
     figures = plot(ctx, radii, late, h, q)

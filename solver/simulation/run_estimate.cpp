@@ -1,0 +1,152 @@
+#include "simulation/run_estimate.hpp"
+
+#include "membrane/membrane_body.hpp"
+#include "membrane/membrane_force.hpp"
+#include "membrane/membrane_law.hpp"
+#include "solid/solid_mechanics.hpp"
+
+#include <fmt/core.h>
+
+#include <algorithm>
+#include <cmath>
+#include <limits>
+
+namespace efsi {
+
+namespace {
+
+// Measured on the development machine, one rank (docs/performance.md, "Estimates before a
+// run"; verification/tests/test_estimate_rates.py checks these against the stored results):
+// - the flow with FFT solves: the throughput study's 3D Taylor-Green at 128^3, one rank
+//   (verification/results/throughput: cell_updates_per_second_1rank_128, bytes_per_cell);
+constexpr double FLOW_SECONDS_FFT = 1 / 1.73e+07;
+constexpr double FLOW_BYTES_PER_CELL = 189;
+// - the process's base, the flow with hypre's viscous solve (a pinned vessel wall) and the
+//   bodies' patch cells: the blood_capillary study's three runs at 64 x 32 x 32
+//   (verification/results/blood_capillary: rate_*).
+constexpr double PROCESS_BYTES = 1.01e+08;
+constexpr double FLOW_SECONDS_HYPRE = 1.28e-06;
+constexpr double HELD_BYTES = 11; // phi alone: 8 B per cell plus the patch's halo
+constexpr double SOLID_BYTES = 516;
+constexpr double SOLID_SECONDS = 9e-07;
+constexpr double MEMBRANE_BYTES = 719;
+constexpr double MEMBRANE_SECONDS = 2.18e-06;
+
+} // namespace
+
+CostRates measured_rates() {
+    // The development machine (2 cores, Debian bookworm), one rank, from
+    // the summary.json of the runs named (peak RSS, stage timers, steps, patch_cells);
+    // docs/performance.md, "Estimates before a run", gives the derivation.
+    CostRates r;
+    r.process_bytes = PROCESS_BYTES;
+    r.flow_bytes_per_cell = FLOW_BYTES_PER_CELL;
+    r.flow_seconds_fft = FLOW_SECONDS_FFT;
+    r.flow_seconds_hypre = FLOW_SECONDS_HYPRE;
+    r.held_bytes_per_patch_cell = HELD_BYTES;
+    r.solid_bytes_per_patch_cell = SOLID_BYTES;
+    r.solid_seconds_per_patch_cell = SOLID_SECONDS;
+    r.membrane_bytes_per_patch_cell = MEMBRANE_BYTES;
+    r.membrane_seconds_per_patch_cell = MEMBRANE_SECONDS;
+    return r;
+}
+
+double initial_patch_cells(const BodyConfig& b, const GlobalGrid& g) {
+    const Real3 ext = body_half_extent(b, g.dim);
+    double cells = 1;
+    for (int d = 0; d < g.dim; ++d) {
+        const double h = g.dx(d);
+        if (ext[d] < 0) {
+            cells *= g.cells[d];
+            continue;
+        }
+        // The smoothed profile is cut where phi < 1e-8, 9.2 eps out; a sharp one in its cells.
+        const double tail = b.interface == InterfaceKind::Smoothed ? 9.2 * b.smoothing_width : 1;
+        const double n = std::ceil(2 * (ext[d] / h + tail + b.margin));
+        cells *= std::min(double(g.cells[d]), n);
+    }
+    return cells;
+}
+
+RunEstimate estimate_run(const Config& cfg, int ranks, const CostRates& r) {
+    const GlobalGrid& g = cfg.grid;
+    RunEstimate e;
+    e.cells = double(g.total_cells());
+    double limit = std::numeric_limits<double>::infinity();
+    auto take = [&](double dt, const std::string& name) {
+        if (dt > 0 && dt < limit) {
+            limit = dt;
+            e.dt_limit = name;
+        }
+    };
+    const real rho = cfg.fluid.density, mu = cfg.fluid.viscosity;
+    for (const BodyConfig& b : cfg.bodies) {
+        const double p = initial_patch_cells(b, g);
+        if (b.pinned || b.kind == BodyKind::Passive) {
+            e.held_patch_cells += p;
+        } else if (b.kind == BodyKind::Solid) {
+            e.solid_patch_cells += p;
+            const real mu_s = b.solid_viscosity >= 0 ? b.solid_viscosity : mu;
+            take(elastic_time_step_limit(g, rho, mu, {SolidLaw{b.shear_modulus, mu_s}}),
+                 fmt::format("elastic, body '{}'", b.name));
+        } else {
+            e.membrane_patch_cells += p;
+            const real mu_m = std::min(real(1), b.viscosity_ratio) * mu;
+            const auto law = make_membrane_law(b.law, b.elastic_modulus, b.area_dilation);
+            take(membrane_time_step_limit(g, rho, mu_m, law->stiffest_modulus()),
+                 fmt::format("membrane, body '{}'", b.name));
+            take(bending_time_step_limit(g, rho, mu_m, b.bending_modulus),
+                 fmt::format("bending, body '{}'", b.name));
+        }
+    }
+    if (cfg.time.fixed_dt > 0) {
+        e.dt = cfg.time.fixed_dt;
+        e.dt_limit = "time.dt";
+    } else {
+        e.dt = std::isfinite(limit) ? cfg.time.cfl * limit : 0;
+        if (cfg.time.dt_max > 0 && (e.dt == 0 || cfg.time.dt_max < e.dt)) {
+            e.dt = cfg.time.dt_max;
+            e.dt_limit = "time.dt_max";
+        }
+    }
+    const LinearSolverChoice solvers = choose_linear_solvers(cfg);
+    const double flow_rate = solvers.viscous_fft ? r.flow_seconds_fft : r.flow_seconds_hypre;
+    e.bytes_per_rank =
+        r.process_bytes +
+        (e.cells * r.flow_bytes_per_cell + e.held_patch_cells * r.held_bytes_per_patch_cell +
+         e.solid_patch_cells * r.solid_bytes_per_patch_cell +
+         e.membrane_patch_cells * r.membrane_bytes_per_patch_cell) /
+            ranks;
+    e.seconds_per_step =
+        (e.cells * flow_rate + e.solid_patch_cells * r.solid_seconds_per_patch_cell +
+         e.membrane_patch_cells * r.membrane_seconds_per_patch_cell) /
+        ranks;
+    if (e.dt > 0) {
+        e.seconds_per_unit_time = e.seconds_per_step / e.dt;
+        e.seconds_to_end = e.seconds_per_unit_time * cfg.time.end_time;
+    }
+    return e;
+}
+
+std::string describe(const RunEstimate& e, const Config& cfg, int ranks) {
+    std::string s = fmt::format(
+        "# estimate on {} rank(s) (rates measured on the development machine, one rank, "
+        "scaled ideally; docs/performance.md \"Estimates before a run\"):\n"
+        "#   memory {:.3g} GB per rank ({:.3g} M cells; body patches {:.3g} M cells of "
+        "membranes, {:.3g} M of solids, {:.3g} M held)\n",
+        ranks, e.bytes_per_rank / 1e9, e.cells / 1e6, e.membrane_patch_cells / 1e6,
+        e.solid_patch_cells / 1e6, e.held_patch_cells / 1e6);
+    if (e.dt > 0)
+        s += fmt::format("#   step {:.3g} ({}); {:.3g} s per step, {:.3g} s per unit of "
+                         "simulated time, {:.3g} h to time.end_time = {:g} (at least: the "
+                         "flow's advection limit may shorten the step)\n",
+                         e.dt, e.dt_limit, e.seconds_per_step, e.seconds_per_unit_time,
+                         e.seconds_to_end / 3600, cfg.time.end_time);
+    else
+        s += fmt::format("#   {:.3g} s per step; no body limits the step, so the cost per unit "
+                         "of time depends on the flow's limits\n",
+                         e.seconds_per_step);
+    return s;
+}
+
+} // namespace efsi
