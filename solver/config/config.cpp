@@ -362,7 +362,8 @@ Config read_config(toml::table& root, const std::filesystem::path& case_dir) {
                     fmt::format("body[{}].mask_file = \"{}\": not a regular file", k, b.mask_file));
         }
     if (!KeyCatalogue::instance().documenting) check_shape_keys(c.bodies);
-    c.seeding = expand_seeding(root, top, c.grid, periodic_directions(c.boundaries), c.bodies);
+    // Every section that does not depend on the seeded bodies is read before the seeding,
+    // which can take a while (Ht 20 % in a tube): a bad key there is reported at once.
     {
         TableReader r = top.sub("contact", "short-range repulsion between bodies");
         c.contact.stiffness =
@@ -373,13 +374,14 @@ Config read_config(toml::table& root, const std::filesystem::path& case_dir) {
         r.finish();
     }
     c.vof = read_vof(top);
-    c.adhesion = read_adhesion(top, c.grid, c.bodies);
     {
         TableReader r = top.sub("parallel", "MPI decomposition");
         c.ranks = r.ivector3("ranks", Int3{0, 0, 0}, Range::closed(0, 1e6),
                              "MPI ranks per direction; 0 = chosen automatically");
         r.finish();
     }
+    c.seeding = expand_seeding(root, top, c.grid, periodic_directions(c.boundaries), c.bodies);
+    c.adhesion = read_adhesion(top, c.grid, c.bodies);
     top.finish();
 
     if (!KeyCatalogue::instance().documenting) {
