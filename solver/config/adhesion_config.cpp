@@ -71,7 +71,7 @@ adhesion::SurfaceEllipsoid receptor_surface(const BodyConfig& b) {
 }
 
 AdhesionConfig read_adhesion(TableReader& top, const GlobalGrid& grid,
-                             const std::vector<BodyConfig>& bodies) {
+                             const std::vector<BodyConfig>& bodies, bool check_receptor_bodies) {
     const bool documenting = KeyCatalogue::instance().documenting;
     AdhesionConfig a;
     a.enabled = top.has("adhesion");
@@ -144,7 +144,7 @@ AdhesionConfig read_adhesion(TableReader& top, const GlobalGrid& grid,
     adhesion::validate_ligand_regions(a.ligand_regions, dlo, dhi, max_ligand_sites);
 
     std::uint64_t total = 0;
-    for (std::size_t i = 0; i < a.receptors.size(); ++i) {
+    for (std::size_t i = 0; check_receptor_bodies && i < a.receptors.size(); ++i) {
         ReceptorGroupConfig& g = a.receptors[i];
         const std::string key = fmt::format("adhesion.receptors[{}]", i);
         const auto it = std::find_if(bodies.begin(), bodies.end(),

@@ -43,9 +43,12 @@ struct AdhesionConfig {
     std::vector<ReceptorGroupConfig> receptors;
 };
 
-/// Read and check [adhesion] against the grid and the bodies.
+/// Read and check [adhesion] against the grid and the bodies. With `check_receptor_bodies`
+/// false the receptors' bodies are not looked up (a first pass before the seeding has placed
+/// the bodies they name: every other key is checked at once).
 AdhesionConfig read_adhesion(TableReader& top, const GlobalGrid& grid,
-                             const std::vector<BodyConfig>& bodies);
+                             const std::vector<BodyConfig>& bodies,
+                             bool check_receptor_bodies = true);
 
 /// The initial surface of a body that carries receptors (a sphere or an ellipsoid, with the
 /// body's orientation). Throws InputError for other shapes.

@@ -380,6 +380,11 @@ Config read_config(toml::table& root, const std::filesystem::path& case_dir) {
                              "MPI ranks per direction; 0 = chosen automatically");
         r.finish();
     }
+    if (top.has("seeding") && !KeyCatalogue::instance().documenting) {
+        // [adhesion] but for its receptors' bodies, and the unknown sections, at once.
+        read_adhesion(top, c.grid, c.bodies, /*check_receptor_bodies=*/false);
+        top.finish_except({"seeding"});
+    }
     c.seeding = expand_seeding(root, top, c.grid, periodic_directions(c.boundaries), c.bodies);
     c.adhesion = read_adhesion(top, c.grid, c.bodies);
     top.finish();

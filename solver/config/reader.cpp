@@ -229,9 +229,14 @@ std::vector<TableReader> TableReader::tables(const std::string& key, const std::
 }
 
 void TableReader::finish() const {
+    finish_except({});
+}
+
+void TableReader::finish_except(std::initializer_list<std::string_view> later) const {
     if (!table_) return;
     for (auto&& [k, v] : *table_) {
         const std::string key(k.str());
+        if (std::find(later.begin(), later.end(), key) != later.end()) continue;
         if (std::find(read_.begin(), read_.end(), key) == read_.end())
             throw InputError(fmt::format("{}: unknown key (check the spelling; "
                                          "docs/case-reference.md lists every key)",

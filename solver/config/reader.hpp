@@ -7,9 +7,11 @@
 
 #include <toml++/toml.h>
 
+#include <initializer_list>
 #include <limits>
 #include <optional>
 #include <string>
+#include <string_view>
 #include <vector>
 
 namespace efsi {
@@ -71,6 +73,8 @@ class TableReader {
     std::vector<TableReader> tables(const std::string& key, const std::string& meaning);
     /// Error if the table holds keys that were not read.
     void finish() const;
+    /// finish(), but the keys in `later` may still be read afterwards.
+    void finish_except(std::initializer_list<std::string_view> later) const;
     std::string full(const std::string& key) const {
         return path_.empty() ? key : path_ + "." + key;
     }
