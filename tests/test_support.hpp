@@ -38,6 +38,12 @@ inline long global_sum(long x) {
     return r;
 }
 
+inline double global_sum_real(double x) {
+    double r = 0;
+    MPI_Allreduce(&x, &r, 1, MPI_DOUBLE, MPI_SUM, MPI_COMM_WORLD);
+    return r;
+}
+
 /// Parse a case from TOML text; failures are test failures with the message shown.
 inline Config case_from(const std::string& toml, const Overrides& overrides = {}) {
     return parse_case(toml, "test_case", overrides);

@@ -150,6 +150,12 @@ std::vector<BodyConfig> read_bodies(TableReader& top, const GlobalGrid& grid,
             "velocity gradient) or reference_map (the reference map X, stored as X - x, "
             "advected with the strain velocity, extended along the normals, and Gs rebuilt "
             "each step from grad X: no velocity gradient enters; the default; docs/method.md)");
+        b.map_interpolation = read_choice(
+            r, "map_interpolation", MapInterpolation::Cubic, map_interpolation_names,
+            "membrane, strain_model = reference_map: interpolation of the map at the foot "
+            "points when it is extended along the normals: cubic (tensor-product 4-point "
+            "Lagrange, error O(h^4): the default) or linear (trilinear, O(h^2): its bias "
+            "feeds the core and the stored strain drifts, docs/method.md)");
         b.profile_iterations =
             int(r.integer("profile_iterations", 2, Range::closed(0, 100),
                           "membrane: pseudo-steps per time step of the conservative "

@@ -31,6 +31,8 @@ enum class StrainExtension { Normal, Layers };
 /// What a membrane carries to know its surface strain: Gs itself (transported with the
 /// velocity gradient) or the reference map X(x, t) (advected, Gs rebuilt from its gradient).
 enum class StrainModel { Tensor, ReferenceMap };
+/// How the reference map is interpolated at the foot points when it is extended.
+enum class MapInterpolation { Cubic, Linear };
 
 inline constexpr std::array<std::string_view, 3> body_kind_names{"passive", "solid", "membrane"};
 inline constexpr std::array<std::string_view, 8> body_shape_names{
@@ -40,6 +42,7 @@ inline constexpr std::array<std::string_view, 2> membrane_law_names{"neo_hookean
 inline constexpr std::array<std::string_view, 2> strain_velocity_names{"surface", "local"};
 inline constexpr std::array<std::string_view, 2> strain_extension_names{"normal", "layers"};
 inline constexpr std::array<std::string_view, 2> strain_model_names{"tensor", "reference_map"};
+inline constexpr std::array<std::string_view, 2> map_interpolation_names{"cubic", "linear"};
 
 inline std::string_view keyword(BodyKind v) {
     return body_kind_names[int(v)];
@@ -61,6 +64,9 @@ inline std::string_view keyword(StrainExtension v) {
 }
 inline std::string_view keyword(StrainModel v) {
     return strain_model_names[int(v)];
+}
+inline std::string_view keyword(MapInterpolation v) {
+    return map_interpolation_names[int(v)];
 }
 
 /// The membrane law named `name` (neo_hookean, skalak); InputError naming `key` otherwise.
@@ -116,6 +122,7 @@ struct BodyConfig {
     /// offset X - x transported (no velocity gradient), extended along the normals and Gs
     /// rebuilt from grad X each step (membrane/reference_map.hpp).
     StrainModel strain_model = StrainModel::ReferenceMap;
+    MapInterpolation map_interpolation = MapInterpolation::Cubic;
     /// Pseudo-steps per time step of the conservative restoration of phi's tanh profile.
     int profile_iterations = 2;
 

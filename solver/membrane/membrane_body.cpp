@@ -32,8 +32,9 @@ MembraneBody::MembraneBody(const BodyConfig& b, const BodyContext& ctx) : BodyPh
     // (|psi| = eps atanh(1 - 2 t)), plus one for the force's stencil; or, with
     // strain_extension = normal, along the normals from the core (normal_extension.hpp).
     if (b.strain_extension == StrainExtension::Normal) {
-        normal_extension_ =
-            std::make_unique<NormalExtension>(ctx.halos, b.name, b.smoothing_width, b.strain_core);
+        normal_extension_ = std::make_unique<NormalExtension>(
+            ctx.halos, b.name, b.smoothing_width, b.strain_core, -1,
+            b.carries_reference_map() && b.map_interpolation == MapInterpolation::Cubic);
     } else if (b.extension_threshold > 0) {
         const real cutoff = MembraneForceSettings{}.band_cutoff;
         const int layers =

@@ -21,11 +21,14 @@ real NormalExtension::default_reach(real eps_cells) {
 }
 
 NormalExtension::NormalExtension(const HaloFiller& halos, const std::string& body_name,
-                                 real eps_cells, real core_cells, real reach_cells)
+                                 real eps_cells, real core_cells, real reach_cells, bool cubic_map)
     : halos_(halos), eps_cells_(eps_cells), core_cells_(core_cells),
-      reach_cells_(reach_cells > 0 ? reach_cells : default_reach(eps_cells)) {
-    // The foot point is |y - x| = |psi| <= reach cells away (n is a unit vector), and the
-    // trilinear stencil reads one cell beyond it (plus one for the cell-centre offset).
+      reach_cells_(reach_cells > 0 ? reach_cells : default_reach(eps_cells)),
+      cubic_map_(cubic_map) {
+    // The foot point is |y - x| = |psi| <= reach cells away (n is a unit vector); with u the
+    // position in cell units (integer at a cell centre) the stencils read floor(u) .. floor(u)
+    // + 1 (trilinear) or floor(u) - 1 .. floor(u) + 2 (cubic), so at most ceil(reach) + 1
+    // cells from the owned cell. One more layer is kept as a margin for round-off in u.
     const Decomposition& dec = halos.decomposition();
     wide_halo_ = int(std::ceil(reach_cells_)) + 2;
     for (int d = 0; d < dec.dim(); ++d) {
@@ -95,6 +98,37 @@ real NormalExtension::interpolate(const Field& f, const Real3& x) const {
                                (dim == 3 ? (c ? t[2] : 1 - t[2]) : 1.0);
                 r += w * f(base[0] + a, base[1] + b, base[2] + c);
             }
+    return r;
+}
+
+// Tensor-product 4-point Lagrange interpolation at x (exact for cubics; error O(h^4) on a
+// smooth field). For the reference map only: X is smooth across the band (constant along
+// the normals), so the overshoot that ruled it out for Gs does not arise.
+real NormalExtension::interpolate_cubic(const Field& f, const Real3& x) const {
+    const Decomposition& dec = halos_.decomposition();
+    const GlobalGrid& g = dec.grid();
+    const int dim = g.dim;
+    Int3 base{0, 0, 0};
+    std::array<std::array<real, 4>, 3> w{};
+    for (int d = 0; d < 3; ++d)
+        w[d] = {0, 1, 0, 0};
+    for (int d = 0; d < dim; ++d) {
+        const real u = (x[d] - g.origin[d]) / g.dx(d) - dec.block().offset[d] - 0.5;
+        base[d] = int(std::floor(u));
+        const real t = u - base[d];
+        w[d] = {-t * (t - 1) * (t - 2) / 6, (t + 1) * (t - 1) * (t - 2) / 2,
+                -(t + 1) * t * (t - 2) / 2, (t + 1) * t * (t - 1) / 6};
+    }
+    real r = 0;
+    const int c0 = dim == 3 ? -1 : 0, c1 = dim == 3 ? 2 : 0;
+    for (int c = c0; c <= c1; ++c) {
+        const real wc = dim == 3 ? w[2][c + 1] : 1.0;
+        for (int b = -1; b <= 2; ++b) {
+            const real wbc = wc * w[1][b + 1];
+            for (int a = -1; a <= 2; ++a)
+                r += wbc * w[0][a + 1] * f(base[0] + a, base[1] + b, base[2] + c);
+        }
+    }
     return r;
 }
 
@@ -212,7 +246,8 @@ void NormalExtension::apply_reference_map(Body& body, bool whole_band) {
         for (int d = 0; d < dim; ++d)
             y[d] -= s * n[d];
         for (int d = 0; d < dim; ++d)
-            X[d](p) = interpolate(src_[d], y) - s * n[d];
+            X[d](p) =
+                (cubic_map_ ? interpolate_cubic(src_[d], y) : interpolate(src_[d], y)) - s * n[d];
     });
     for (Field& c : X)
         halos_.fill(c, body.patch());

@@ -14,8 +14,9 @@
 //   - elsewhere on the patch (beyond the band, or where psi is not a distance,
 //     |grad psi|^2 < 1/4): Gs <- I (no elastic memory; the force is not evaluated there).
 // psi = eps atanh(1 - 2 phi) (positive outside), n = grad psi / |grad psi| by central
-// differences. The interpolation reads cells up to reach + 2 cells away, so the copy of Gs
-// it reads carries ceil(reach) + 2 halo layers: every rank's block must be that wide.
+// differences. The interpolation reads cells up to ceil(reach) + 1 cells away (the reference
+// map's cubic stencil; trilinear: ceil(reach)), so the copy it reads carries ceil(reach) + 2
+// halo layers: every rank's block must be that wide.
 #pragma once
 
 #include "bodies/body.hpp"
@@ -34,8 +35,10 @@ class NormalExtension {
     /// band's edge, |psi| = eps atanh(1 - 2e-5) = 5.75 eps, plus 2 cells for the force's and
     /// the transport's stencils). Throws InputError (naming `body_name`) when a rank's block
     /// is too thin for the interpolation's halo.
+    /// `cubic_map`: the reference map is interpolated at the foot points by the tensor-product
+    /// 4-point Lagrange interpolant (otherwise trilinear, as Gs always is).
     NormalExtension(const HaloFiller& halos, const std::string& body_name, real eps_cells,
-                    real core_cells, real reach_cells = -1);
+                    real core_cells, real reach_cells = -1, bool cubic_map = true);
 
     /// Replace Gs on the body's patch as described above; fills Gs's halos. Collective.
     void apply(Body& body);
@@ -61,6 +64,8 @@ class NormalExtension {
     bool prepare(Body& body, const std::vector<const Field*>& fields);
     /// Trilinear interpolant of a src_ field at x.
     real interpolate(const Field& f, const Real3& x) const;
+    /// Tensor-product 4-point Lagrange interpolant of a src_ field at x.
+    real interpolate_cubic(const Field& f, const Real3& x) const;
     /// psi (s) and unit normal at p; false beyond the reach or where psi is not a distance.
     bool normal_at(const Int3& p, real& s, Real3& n) const;
 
@@ -68,6 +73,7 @@ class NormalExtension {
     real eps_cells_;
     real core_cells_;
     real reach_cells_;
+    bool cubic_map_;
     int wide_halo_;
     Field psi_;              ///< eps atanh(1 - 2 phi), halo 1
     std::vector<Field> src_; ///< Gs (or X - x) after the transport, wide halos
