@@ -7,7 +7,11 @@ Reads the records in this folder (record.py) with capsule_longtime's own measure
 published steady values, and prints a markdown table: per run the strain model, the time
 reached, D at t = 1 / 2 / 3 / 5 / 10 (RP98 beside), the steady D over the last quarter and
 its error, the largest |D - D_ref| over the reference curve's full range
-(capsule_longtime's max_abs_D_error_full), max tr Gs over the band, the largest area change and the reference-area drift.
+(capsule_longtime's max_abs_D_error_full), max tr Gs over the band, the largest area change,
+the reference-area drift, and the wall time per unit of shear-rate x t with the rank count
+(the machine's load is in each record.json; the runs shared the 2 cores, so it is loose).
+"reference_map" records before session 18 extend the map with the trilinear interpolant
+(`map_interpolation = "linear"`); those with suffix `_cubic` use the cubic default.
 docs/method.md quotes its output (section "The reference map").
 """
 import sys
@@ -38,6 +42,14 @@ RUNS = [
     ("ca0.05_n32_t10", "reference_map", 0.05, "neo_hookean", None),
     ("ca0.2_n32_t10", "reference_map", 0.2, "neo_hookean", None),
     ("ca0.05_n128_t10", "reference_map", 0.05, "neo_hookean", None),
+    ("ca0.05_n64_t20_cubic", "reference_map, cubic", 0.05, "neo_hookean", None),
+    ("ca0.1_n64_t20_cubic", "reference_map, cubic", 0.1, "neo_hookean", None),
+    ("ca0.025_n64_t20_cubic", "reference_map, cubic", 0.025, "neo_hookean", None),
+    ("ca0.0125_n64_t20_cubic", "reference_map, cubic", 0.0125, "neo_hookean", None),
+    ("ca0.05_n64_bend0.01_t20_cubic", "reference_map, cubic", 0.05, "neo_hookean", None),
+    ("ca0.025_n64_skalak_C10_t20_cubic", "reference_map, cubic", 0.025, "skalak", 10.0),
+    ("ca0.025_n64_skalak_C1_t20_cubic", "reference_map, cubic", 0.025, "skalak", 1.0),
+    ("ca0.05_n128_t10_cubic", "reference_map, cubic", 0.05, "neo_hookean", None),
 ]
 
 
@@ -50,8 +62,8 @@ def d_at(t, D, when):
 def main() -> int:
     print("| run | strain model | t reached | D(1) | D(2) | D(3) | D(5) | D(10) | steady D "
           "| published | error | max abs D error, full range | max tr Gs | max area change "
-          "| reference-area drift |")
-    print("|---" * 15 + "|")
+          "| reference-area drift | wall per shear time [s] (ranks) |")
+    print("|---" * 16 + "|")
     for name, model, ca, law, c in RUNS:
         rec = HERE / name
         if not (rec / "bodies.csv").exists():
@@ -68,10 +80,13 @@ def main() -> int:
         # (records made before reference_area left out rank-lost cells hold ~1e143)
         ref_drift = ("-" if drift is None else f"{drift:.2%}" if drift < 10
                      else "not measurable (rank-lost cells counted)")
+        wall = ("-" if not m.get("wall_seconds") or m["t_end"] <= 0
+                else f"{m['wall_seconds'] / m['t_end']:.0f} ({m['ranks']})")
         print(f"| {name} | {model} | {m['t_end']:.3g} ({m['status']}) | "
               + " | ".join(d_at(t, D, w) for w in (1, 2, 3, 5, 10))
               + f" | {m['steady_D']:.3f} | {published} | {error} | {full} "
-              f"| {m['max_trace_Gs']:.2f} | {m['max_area_change']:.1%} | {ref_drift} |")
+              f"| {m['max_trace_Gs']:.2f} | {m['max_area_change']:.1%} | {ref_drift} "
+              f"| {wall} |")
     return 0
 
 
