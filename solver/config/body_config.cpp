@@ -2,11 +2,13 @@
 
 #include "config/reader.hpp"
 #include "core/error.hpp"
+#include "interface/thinc.hpp"
 
 #include <fmt/core.h>
 
 #include <algorithm>
 #include <cmath>
+#include <limits>
 #include <set>
 
 namespace efsi {
@@ -84,8 +86,11 @@ std::vector<BodyConfig> read_bodies(TableReader& top, const GlobalGrid& grid,
         b.interface = read_choice(r, "interface", InterfaceKind::Sharp, interface_names,
                                   "sharp: exact cell volume fractions; smoothed: tanh profile "
                                   "(the membrane's smoothed VOF)");
-        b.smoothing_width = r.number("smoothing_width", 1.0, Range::positive(), "cells",
-                                     "smoothed: width eps of phi = (1 - tanh(L/eps))/2");
+        b.smoothing_width = r.number(
+            "smoothing_width", 1.0,
+            Range::closed(1 / mthinc_beta_max, std::numeric_limits<real>::infinity()), "cells",
+            "smoothed: width eps of phi = (1 - tanh(L/eps))/2 (its VOF advection's "
+            "MTHINC beta is 1/eps, at most 50)");
         b.subsamples = r.integer("subsamples", 8, Range::closed(1, 64),
                                  "sharp: sub-samples per direction in the cells the surface cuts");
         b.margin = r.integer("margin", 4, Range::closed(2, 1000),
@@ -294,7 +299,7 @@ VofConfig read_vof(TableReader& top) {
     v.scheme = r.string("scheme", "mthinc", {"mthinc", "thinc"},
                         "mthinc (multidimensional, planar) or thinc (1D per sweep)");
     v.beta_thinc = r.number("beta_thinc", 3.5, Range::positive(), "-", "1D THINC sharpness");
-    v.beta_mthinc = r.number("beta_mthinc", 2.0, Range::positive(), "-",
+    v.beta_mthinc = r.number("beta_mthinc", 2.0, Range{0, mthinc_beta_max, true}, "-",
                              "MTHINC sharpness along the normal (unit-cell coordinates)");
     r.finish();
     return v;

@@ -4,6 +4,7 @@
 #include "core/types.hpp"
 #include "grid/grid.hpp"
 
+#include <algorithm>
 #include <array>
 #include <string>
 #include <string_view>
@@ -132,6 +133,15 @@ struct BodyConfig {
     }
     bool carried_by_surface_velocity() const {
         return kind == BodyKind::Membrane && !pinned && strain_velocity == StrainVelocity::Surface;
+    }
+    /// A solid's viscosity mu_s: solid_viscosity, or the fluid's (`fluid_viscosity`) when unset.
+    real solid_viscosity_or(real fluid_viscosity) const {
+        return solid_viscosity >= 0 ? solid_viscosity : fluid_viscosity;
+    }
+    /// The viscosity that damps a membrane's modes (its time-step limits): the smaller of the
+    /// two its band mixes, the outer fluid's and the enclosed fluid's.
+    real membrane_damping_viscosity(real fluid_viscosity) const {
+        return std::min(real(1), viscosity_ratio) * fluid_viscosity;
     }
 };
 

@@ -14,10 +14,12 @@
 //     H(X) = (1/2) (1 + tanh(beta (n . X + d))),
 // n the unit normal pointing into the body (up grad phi), d fixed by the cell average.
 // As in Ii et al., volume integrals of H are taken exactly along the direction m of the
-// largest |n_m| (where H has a closed-form primitive, ln cosh) and by Gauss-Legendre
-// quadrature (2 points) in the other directions; the same rule defines d and the fluxes, so
-// a flux never exceeds what the reconstruction puts in the cell. We keep the linear
-// (planar) level n . X; Ii et al. also add a quadratic curvature term, not done here.
+// largest |n_m| (where H has a closed-form primitive: ln cosh up to a linear term, written
+// here as ln(1 + e^{2z})/2 so that a Newton iteration costs one exp and one log, see
+// MthincBoxRule) and by Gauss-Legendre quadrature (2 points) in the other directions; the
+// same rule defines d and the fluxes, so a flux never exceeds what the reconstruction puts
+// in the cell. We keep the linear (planar) level n . X; Ii et al. also add a quadratic
+// curvature term, not done here.
 #pragma once
 
 #include "core/types.hpp"
@@ -69,45 +71,115 @@ struct Mthinc {
     int dim = 3;
 };
 
+/// Largest MTHINC beta the closed form below takes. Over the Newton bracket
+/// |d| <= sqrt(dim)/2 + 20/beta, so |z_q| <= beta (sqrt(3)/2 + 1/2 + 1/3) + 20: at
+/// beta = 50, x_q <= e^{210}, (x_q + 1)(x_q + G) <= e^{420} and the product of the ratios
+/// <= G^4 <= e^{400}, so nothing overflows. Such a beta already makes H a step (jump
+/// 2/beta = 0.04 cells wide).
+inline constexpr real mthinc_beta_max = 50;
+
+/// The MTHINC integral over one box [lo, hi] as a function of the level offset d, for a
+/// fixed normal: exact along m, 2-point Gauss in the other directions (mthinc_box_integral).
+///
+/// Along m, (1 + tanh z)/2 has the primitive ln(1 + e^{2z})/2, so at the Gauss point q
+/// (transverse level t_q = sum_{e != m} n_e X_e) the line integral is
+///     int_lo^hi H dX_m = ln[(x_q + G) / (x_q + 1)] / (2 beta n_m),
+///     x_q = e^{-2 z_q},  z_q = beta (n_m lo_m + t_q + d),  G = e^{2 beta n_m (hi_m - lo_m)},
+/// (z_q the argument at the low end of the line), and its derivative with respect to d is
+///     (H(z_hi) - H(z_lo)) / n_m = x_q (G - 1) / ((x_q + 1)(x_q + G) n_m).
+/// x_q = e^{-2 beta (n_m lo_m + d)} F_q with F_q = e^{-2 beta t_q} fixed by the box, so
+/// an evaluation at a new d (a Newton iteration) takes one exp for all the Gauss points,
+/// and their sum of logarithms is the log of one product: one exp and one log, where the
+/// sum of ln cosh differences took 2^dim exp and 2^dim log1p (and as many tanh for the
+/// slope). Nothing overflows for beta <= mthinc_beta_max (see there), and the absolute
+/// round-off of a ratio (1e-16, ratios between 1 and G) is that of phi itself.
+class MthincBoxRule {
+  public:
+    /// The rule of r's normal over [lo, hi]. `cell` (optional) is the rule of the same
+    /// normal over the whole cell: its F_q are reused when the box spans the cell in the
+    /// transverse directions, its G when the box spans it along m (same values: the
+    /// same expressions of the same numbers).
+    MthincBoxRule(const Mthinc& r, const Real3& lo, const Real3& hi,
+                  const MthincBoxRule* cell = nullptr)
+        : beta_(r.beta), nm_(r.n[r.m]) {
+        constexpr real g = 0.5773502691896257645; // 1/sqrt(3): Gauss points at +-g on [-1, 1]
+        int others[2] = {0, 0};
+        int no = 0;
+        bool whole_transverse = true;
+        real weight = 1; // Gauss weights 1 times the transverse half-lengths
+        for (int e = 0; e < r.dim; ++e)
+            if (e != r.m) {
+                others[no++] = e;
+                weight *= 0.5 * (hi[e] - lo[e]);
+                whole_transverse = whole_transverse && lo[e] == -0.5 && hi[e] == 0.5;
+            }
+        nq_ = 1 << no;
+        if (cell && whole_transverse)
+            std::copy(cell->factor_, cell->factor_ + nq_, factor_);
+        else
+            for (int q = 0; q < nq_; ++q) {
+                real t = 0;
+                for (int a = 0; a < no; ++a) {
+                    const int e = others[a];
+                    const real mid = 0.5 * (lo[e] + hi[e]), half = 0.5 * (hi[e] - lo[e]);
+                    t += r.n[e] * (mid + ((q >> a) & 1 ? g : -g) * half);
+                }
+                factor_[q] = std::exp(-2 * beta_ * t);
+            }
+        low_ = nm_ * lo[r.m];
+        growth_ = cell && lo[r.m] == -0.5 && hi[r.m] == 0.5
+                      ? cell->growth_
+                      : std::exp(2 * beta_ * nm_ * (hi[r.m] - lo[r.m]));
+        scale_ = weight / (2 * beta_ * nm_);
+        slope_scale_ = weight * (growth_ - 1) / nm_;
+    }
+
+    /// int_box H at level offset d; `dd` (if given) receives its derivative in d.
+    real integral(real d, real* dd = nullptr) const {
+        const real e = std::exp(-2 * beta_ * (low_ + d));
+        real ratio = 1, slope = 0;
+        for (int q = 0; q < nq_; ++q) {
+            const real x = e * factor_[q], xl = x + 1, xh = x + growth_;
+            const real inv = 1 / (xl * xh); // one division for the ratio and the slope
+            ratio *= xh * xh * inv;
+            slope += x * inv;
+        }
+        if (dd) *dd = slope_scale_ * slope;
+        return scale_ * std::log(ratio);
+    }
+
+    /// The level offset d of the cell's 1D profile along m alone (transverse components of
+    /// n left out) with cell average phi: for the whole cell (lo_m = -1/2, one Gauss point)
+    /// ln[(x + G)/(x + 1)] = 2 beta n_m phi gives x = (G - P)/(P - 1), P = e^{2 beta n_m phi}.
+    /// Newton's starting point (the closed form tanh(beta d) = tanh(beta n_m (phi - 1/2)) /
+    /// tanh(beta n_m / 2) in other terms). Only for a rule over the whole cell.
+    real profile_level(real phi) const {
+        const real p = std::exp(2 * beta_ * nm_ * phi);
+        return 0.5 * nm_ - std::log((growth_ - p) / (p - 1)) / (2 * beta_);
+    }
+
+  private:
+    real beta_;
+    real nm_;
+    real low_ = 0;         ///< n_m lo_m: the level of the low end of the lines, less t_q and d
+    real growth_ = 1;      ///< G
+    real scale_ = 1;       ///< weight / (2 beta n_m)
+    real slope_scale_ = 1; ///< weight (G - 1) / n_m
+    real factor_[4] = {1, 1, 1, 1}; ///< F_q
+    int nq_ = 1;
+};
+
 /// int over the box [lo, hi] (unit-cell coordinates, only the first dim entries used) of
-/// H = (1/2)(1 + tanh(beta (n.X + d))); exact along m, 2-point Gauss in the others.
-/// With q = n.X - n_m X_m + d,
-///   int_lo^hi H dX_m = (1/2) [ (hi - lo) + (ln cosh(beta(n_m hi + q)) -
-///                                            ln cosh(beta(n_m lo + q))) / (beta n_m) ].
-/// `dd` receives the derivative of the integral with respect to d (for Newton).
+/// H = (1/2)(1 + tanh(beta (n.X + d))); exact along m, 2-point Gauss in the others
+/// (MthincBoxRule). `dd` receives the derivative of the integral with respect to d.
 inline real mthinc_box_integral(const Mthinc& r, const Real3& lo, const Real3& hi,
                                 real* dd = nullptr) {
-    constexpr real g = 0.5773502691896257645; // 1/sqrt(3): Gauss points at +-g on [-1, 1]
-    int others[2] = {0, 0};
-    int no = 0;
-    real weight = 1; // product of the half-lengths of the Gauss directions (weights 1 each)
-    for (int e = 0; e < r.dim; ++e)
-        if (e != r.m) {
-            others[no++] = e;
-            weight *= 0.5 * (hi[e] - lo[e]);
-        }
-    const real nm = r.n[r.m];
-    const real len = hi[r.m] - lo[r.m];
-    real sum = 0, dsum = 0;
-    for (int q = 0; q < (1 << no); ++q) {
-        real level = r.d;
-        for (int a = 0; a < no; ++a) {
-            const int e = others[a];
-            const real mid = 0.5 * (lo[e] + hi[e]), half = 0.5 * (hi[e] - lo[e]);
-            level += r.n[e] * (mid + ((q >> a) & 1 ? g : -g) * half);
-        }
-        const real zh = r.beta * (nm * hi[r.m] + level), zl = r.beta * (nm * lo[r.m] + level);
-        sum += 0.5 * (len + (log_cosh(zh) - log_cosh(zl)) / (r.beta * nm));
-        dsum += 0.5 * (std::tanh(zh) - std::tanh(zl)) / nm;
-    }
-    if (dd) *dd = weight * dsum;
-    return weight * sum;
+    return MthincBoxRule(r, lo, hi).integral(r.d, dd);
 }
 
-/// Reconstruction of a cell with average phi in (0, 1) and normal direction `grad`
-/// (any length > 0, unit-cell coordinates): finds d with int_cell H = phi by Newton's
-/// method safeguarded by bisection (the integral increases monotonically with d).
-inline Mthinc mthinc_reconstruct(real phi, const Real3& grad, real beta, int dim) {
+/// The reconstruction's normal: n = grad / |grad| (grad any length > 0, unit-cell
+/// coordinates) and m the direction of its largest component; d left at 0.
+inline Mthinc mthinc_normal(const Real3& grad, real beta, int dim) {
     Mthinc r;
     r.beta = beta;
     r.dim = dim;
@@ -119,124 +191,55 @@ inline Mthinc mthinc_reconstruct(real phi, const Real3& grad, real beta, int dim
         r.n[e] = grad[e] / len;
         if (std::abs(r.n[e]) > std::abs(r.n[r.m])) r.m = e;
     }
-    const Real3 lo{-0.5, -0.5, -0.5}, hi{0.5, 0.5, 0.5};
+    return r;
+}
+
+/// The level offset d with int_cell H = phi in (0, 1), `cell` the rule of r's normal over
+/// the whole cell: Newton's method safeguarded by bisection (the integral increases
+/// monotonically with d), each iteration one evaluation of the rule.
+inline real mthinc_level(const Mthinc& r, const MthincBoxRule& cell, real phi) {
     // |n.X| <= sqrt(dim)/2 in the cell; 20/beta more makes tanh = +-1 to round-off.
-    real a = -std::sqrt(real(dim)) / 2 - 20 / beta, b = -a;
-    // Start from the closed form that ignores the transverse components of n (the 1D
-    // profile along m with slope n_m):  tanh(beta d) = tanh(beta n_m (phi - 1/2)) /
-    // tanh(beta n_m / 2) (even in n_m); Newton then needs a few iterations, not ~10.
-    const real bn = beta * std::abs(r.n[r.m]);
-    const real t = std::tanh(bn * (phi - 0.5)) / std::tanh(0.5 * bn);
-    r.d = std::clamp(std::atanh(std::clamp(t, -1 + 1e-15, 1 - 1e-15)) / beta, a, b);
+    real a = -std::sqrt(real(r.dim)) / 2 - 20 / r.beta, b = -a;
+    // Start from the 1D profile along m (MthincBoxRule::profile_level); Newton then needs a
+    // few iterations, not ~10. A start lost to round-off (P = 1 or G) is NaN or infinite.
+    const real start = cell.profile_level(phi);
+    real d = std::isnan(start) ? 0 : std::clamp(start, a, b);
     for (int it = 0; it < 100; ++it) {
         real slope = 0;
-        const real f = mthinc_box_integral(r, lo, hi, &slope) - phi;
+        const real f = cell.integral(d, &slope) - phi;
         if (std::abs(f) < 1e-15) break;
-        (f > 0 ? b : a) = r.d;
-        real next = slope > 0 ? r.d - f / slope : 0.5 * (a + b);
+        (f > 0 ? b : a) = d;
+        real next = slope > 0 ? d - f / slope : 0.5 * (a + b);
         if (!(next > a && next < b)) next = 0.5 * (a + b);
         if (b - a < 1e-15) break;
-        r.d = next;
+        d = next;
     }
+    return d;
+}
+
+/// Reconstruction of a cell with average phi in (0, 1) and normal direction `grad`
+/// (any length > 0, unit-cell coordinates). beta <= mthinc_beta_max.
+inline Mthinc mthinc_reconstruct(real phi, const Real3& grad, real beta, int dim) {
+    Mthinc r = mthinc_normal(grad, beta, dim);
+    r.d = mthinc_level(r, MthincBoxRule(r, {-0.5, -0.5, -0.5}, {0.5, 0.5, 0.5}), phi);
     return r;
 }
 
 /// The flux of one face in one call: mthinc_reconstruct(phi, grad, beta, dim) followed by
 /// mthinc_box_integral over the slab of width `a` at the high (`positive`) or low end of
-/// the cell along d, bit-identical to the two calls but with fewer transcendental calls:
-/// Newton takes tanh (the slope) only in the iterations that use it, not in the one that
-/// finds it has converged; and when d is the exact direction m, the slab shares its face on
-/// the cell boundary with the whole cell, so ln cosh there comes from the last Newton
-/// evaluation (when that was at the final d: always, unless Newton hit its iteration
-/// limit). The values are computed with the same expressions in the same order as there.
+/// the cell along d, bit for bit the same value, the slab's rule reusing the cell's F_q
+/// (d = m) or G (d != m).
 inline real mthinc_slab_integral(real phi, const Real3& grad, real beta, int dim, int d, real a,
                                  bool positive) {
-    constexpr real g = 0.5773502691896257645;
-    Mthinc r;
-    r.beta = beta;
-    r.dim = dim;
-    real len2 = 0;
-    for (int e = 0; e < dim; ++e)
-        len2 += grad[e] * grad[e];
-    const real len = std::sqrt(len2);
-    for (int e = 0; e < dim; ++e) {
-        r.n[e] = grad[e] / len;
-        if (std::abs(r.n[e]) > std::abs(r.n[r.m])) r.m = e;
-    }
-    // The Gauss points of the whole cell, as mthinc_box_integral takes them for lo = -1/2,
-    // hi = 1/2: mid = 0 and half = 1/2 in the transverse directions.
-    int others[2] = {0, 0};
-    int no = 0;
-    real weight = 1;
-    for (int e = 0; e < dim; ++e)
-        if (e != r.m) {
-            others[no++] = e;
-            weight *= 0.5 * (0.5 - -0.5);
-        }
-    const int nq = 1 << no;
-    real term[4][2] = {}; // n_e (mid + (+-g) half): Gauss point q, transverse direction ax
-    for (int q = 0; q < nq; ++q)
-        for (int ax = 0; ax < no; ++ax) {
-            const real mid = 0.5 * (-0.5 + 0.5), half = 0.5 * (0.5 - -0.5);
-            term[q][ax] = r.n[others[ax]] * (mid + ((q >> ax) & 1 ? g : -g) * half);
-        }
-    const real nm = r.n[r.m];
-    real level[4], zh[4], zl[4], lch[4], lcl[4];
-    real d_eval = 0;
-    bool evaluated = false;
-    // int_cell H at r.d, keeping the levels, the arguments and ln cosh of each Gauss point.
-    auto cell_integral = [&]() {
-        real sum = 0;
-        for (int q = 0; q < nq; ++q) {
-            level[q] = r.d;
-            for (int ax = 0; ax < no; ++ax)
-                level[q] += term[q][ax];
-            zh[q] = r.beta * (nm * 0.5 + level[q]);
-            zl[q] = r.beta * (nm * -0.5 + level[q]);
-            lch[q] = log_cosh(zh[q]);
-            lcl[q] = log_cosh(zl[q]);
-            sum += 0.5 * ((0.5 - -0.5) + (lch[q] - lcl[q]) / (r.beta * nm));
-        }
-        d_eval = r.d;
-        evaluated = true;
-        return weight * sum;
-    };
-    auto cell_slope = [&]() {
-        real dsum = 0;
-        for (int q = 0; q < nq; ++q)
-            dsum += 0.5 * (std::tanh(zh[q]) - std::tanh(zl[q])) / nm;
-        return weight * dsum;
-    };
-    // mthinc_reconstruct's Newton iteration (see there), bracket [lo_d, hi_d].
-    real lo_d = -std::sqrt(real(dim)) / 2 - 20 / beta, hi_d = -lo_d;
-    const real bn = beta * std::abs(r.n[r.m]);
-    const real t = std::tanh(bn * (phi - 0.5)) / std::tanh(0.5 * bn);
-    r.d = std::clamp(std::atanh(std::clamp(t, -1 + 1e-15, 1 - 1e-15)) / beta, lo_d, hi_d);
-    for (int it = 0; it < 100; ++it) {
-        const real f = cell_integral() - phi;
-        if (std::abs(f) < 1e-15) break;
-        (f > 0 ? hi_d : lo_d) = r.d;
-        const real slope = cell_slope();
-        real next = slope > 0 ? r.d - f / slope : 0.5 * (lo_d + hi_d);
-        if (!(next > lo_d && next < hi_d)) next = 0.5 * (lo_d + hi_d);
-        if (hi_d - lo_d < 1e-15) break;
-        r.d = next;
-    }
+    Mthinc r = mthinc_normal(grad, beta, dim);
+    const MthincBoxRule cell(r, {-0.5, -0.5, -0.5}, {0.5, 0.5, 0.5});
+    r.d = mthinc_level(r, cell, phi);
     Real3 lo{-0.5, -0.5, -0.5}, hi{0.5, 0.5, 0.5};
     if (positive)
         lo[d] = 0.5 - a;
     else
         hi[d] = -0.5 + a;
-    if (d != r.m || !evaluated || r.d != d_eval) return mthinc_box_integral(r, lo, hi);
-    // d = m: the slab spans the cell transversely, so its Gauss levels are the cell's.
-    const real slab = hi[r.m] - lo[r.m];
-    real sum = 0;
-    for (int q = 0; q < nq; ++q) {
-        const real ch = positive ? lch[q] : log_cosh(r.beta * (nm * hi[r.m] + level[q]));
-        const real cl = positive ? log_cosh(r.beta * (nm * lo[r.m] + level[q])) : lcl[q];
-        sum += 0.5 * (slab + (ch - cl) / (r.beta * nm));
-    }
-    return weight * sum;
+    return MthincBoxRule(r, lo, hi, &cell).integral(r.d);
 }
 
 } // namespace efsi

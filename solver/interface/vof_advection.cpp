@@ -97,48 +97,30 @@ std::ptrdiff_t stride(const Field& f, int d) {
     return d == 0 ? 1 : d == 1 ? std::ptrdiff_t(e[0]) : std::ptrdiff_t(e[0]) * e[1];
 }
 
-/// youngs_gradient as a table over the 3^dim block: for each point in the same order,
-/// the memory offset and, for each direction whose offset is not 0, its weight (the
-/// accumulation into each component then runs in the same order as there).
-struct YoungsStencil {
-    struct Term {
-        std::ptrdiff_t off;
-        int d;
-        real w;
-    };
-    Term terms[54];
-    int count = 0;
-
-    YoungsStencil(const Field& phi, int dim) {
-        const std::ptrdiff_t s[3] = {stride(phi, 0), stride(phi, 1), stride(phi, 2)};
-        int npts = 1;
-        for (int e = 0; e < dim; ++e)
-            npts *= 3;
-        for (int q = 0; q < npts; ++q) {
-            Int3 o{0, 0, 0};
-            int code = q;
-            for (int e = 0; e < dim; ++e, code /= 3)
-                o[e] = code % 3 - 1;
-            std::ptrdiff_t off = 0;
-            for (int e = 0; e < dim; ++e)
-                off += o[e] * s[e];
-            for (int d = 0; d < dim; ++d) {
-                if (o[d] == 0) continue;
-                real w = 0.5 * o[d];
-                for (int e = 0; e < dim; ++e)
-                    if (e != d) w *= (o[e] == 0 ? 0.5 : 0.25);
-                terms[count++] = {off, d, w};
+/// youngs_gradient on plain pointers, for a compile-time dim: the same points in the same
+/// order (x offset fastest), so each component adds up the same terms in the same order;
+/// the weights are powers of 2, so w * v is exact however w is formed. With the loops
+/// unrolled the weights are constants and the sums stay in registers (a table of terms
+/// accumulated into g[d] through memory took a fifth of the sweep's time).
+template <int Dim>
+Real3 youngs_gradient_at(const real* p, const std::ptrdiff_t (&s)[3]) {
+    real g[3] = {0, 0, 0};
+    constexpr int span2 = Dim > 2 ? 1 : 0, span1 = Dim > 1 ? 1 : 0;
+    for (int o2 = -span2; o2 <= span2; ++o2)
+        for (int o1 = -span1; o1 <= span1; ++o1)
+            for (int o0 = -1; o0 <= 1; ++o0) {
+                const int o[3] = {o0, o1, o2};
+                const real v = p[o0 + o1 * s[1] + o2 * s[2]];
+                for (int d = 0; d < Dim; ++d) {
+                    if (o[d] == 0) continue;
+                    real w = 0.5 * o[d];
+                    for (int e = 0; e < Dim; ++e)
+                        if (e != d) w *= (o[e] == 0 ? 0.5 : 0.25);
+                    g[d] += w * v;
+                }
             }
-        }
-    }
-
-    Real3 gradient(const real* p) const {
-        Real3 g{0, 0, 0};
-        for (int t = 0; t < count; ++t)
-            g[terms[t].d] += terms[t].w * p[terms[t].off];
-        return g;
-    }
-};
+    return {g[0], g[1], g[2]};
+}
 
 } // namespace
 
@@ -146,6 +128,10 @@ VofAdvection::VofAdvection(const HaloFiller& halos, const VofOptions& options)
     : halos_(halos), opt_(options) {
     if (!(opt_.beta_thinc > 0) || !(opt_.beta_mthinc > 0))
         throw InputError("vof: beta must be positive");
+    if (opt_.scheme == VofScheme::Mthinc && opt_.beta_mthinc > mthinc_beta_max)
+        throw InputError(fmt::format("vof: MTHINC beta {} above {} (the reconstruction is a step "
+                                     "already; a smoothed body's beta is 1/smoothing_width)",
+                                     opt_.beta_mthinc, mthinc_beta_max));
     if (!(opt_.epsilon > 0 && opt_.epsilon < 0.5))
         throw InputError("vof: epsilon must be in (0, 1/2)");
 }
@@ -163,7 +149,7 @@ void VofAdvection::sweep_rows(Field& phi, const VelocityField& u, real dt, int d
     const bool closed_lo = patch && !patch->exchange[d][0];
     const bool closed_hi = patch && !patch->exchange[d][1];
     const real eps = opt_.epsilon;
-    const YoungsStencil youngs(phi, dim);
+    const std::ptrdiff_t strides[3] = {1, stride(phi, 1), stride(phi, 2)};
     real* const phi0 = phi.data().data();
     real* const flux0 = flux_.data().data();
     const real* const chi0 = chi_.data().data();
@@ -205,7 +191,9 @@ void VofAdvection::sweep_rows(Field& phi, const VelocityField& u, real dt, int d
                         G = positive ? v : -v;
                     }
                 } else {
-                    const Real3 grad = youngs.gradient(up);
+                    const Real3 grad = dim == 3   ? youngs_gradient_at<3>(up, strides)
+                                       : dim == 2 ? youngs_gradient_at<2>(up, strides)
+                                                  : youngs_gradient_at<1>(up, strides);
                     real g2 = 0;
                     for (int e = 0; e < dim; ++e)
                         g2 += grad[e] * grad[e];

@@ -47,8 +47,7 @@ MembraneBody::MembraneBody(const BodyConfig& b, const BodyContext& ctx) : BodyPh
     if (b.profile_iterations > 0)
         reinit_ = std::make_unique<ConservativeReinit>(ctx.halos, b.smoothing_width,
                                                        b.profile_iterations);
-    // The smaller of the two viscosities the band mixes damps the membrane's modes.
-    const real mu = std::min(real(1), b.viscosity_ratio) * run.fluid.viscosity;
+    const real mu = b.membrane_damping_viscosity(run.fluid.viscosity);
     const real membrane =
         membrane_time_step_limit(run.grid, run.fluid.density, mu, law_->stiffest_modulus());
     if (membrane > 0) limits_.push_back({"membrane", membrane});

@@ -86,12 +86,12 @@ RunEstimate estimate_run(const Config& cfg, int ranks, const CostRates& r) {
             e.held_patch_cells += p;
         } else if (b.kind == BodyKind::Solid) {
             e.solid_patch_cells += p;
-            const real mu_s = b.solid_viscosity >= 0 ? b.solid_viscosity : mu;
+            const real mu_s = b.solid_viscosity_or(mu);
             take(elastic_time_step_limit(g, rho, mu, {SolidLaw{b.shear_modulus, mu_s}}),
                  fmt::format("elastic, body '{}'", b.name));
         } else {
             e.membrane_patch_cells += p;
-            const real mu_m = std::min(real(1), b.viscosity_ratio) * mu;
+            const real mu_m = b.membrane_damping_viscosity(mu);
             const auto law = make_membrane_law(b.law, b.elastic_modulus, b.area_dilation);
             take(membrane_time_step_limit(g, rho, mu_m, law->stiffest_modulus()),
                  fmt::format("membrane, body '{}'", b.name));

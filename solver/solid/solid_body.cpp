@@ -2,18 +2,9 @@
 
 namespace efsi {
 
-namespace {
-
-/// mu_s of a solid: its solid_viscosity, or the fluid's when that is negative.
-real solid_viscosity(const BodyConfig& b, const Config& run) {
-    return b.solid_viscosity >= 0 ? b.solid_viscosity : run.fluid.viscosity;
-}
-
-} // namespace
-
 SolidBody::SolidBody(const BodyConfig& body, const BodyContext& ctx) : BodyPhysics(body, ctx) {
     law_.shear_modulus = body.shear_modulus;
-    law_.viscosity = solid_viscosity(body, ctx.run);
+    law_.viscosity = body.solid_viscosity_or(ctx.run.fluid.viscosity);
     transport_ = std::make_unique<BodyTransport>(ctx.halos);
     // B is extended from the solid's mostly solid cells into the rest (docs/method.md).
     if (body.extension_threshold > 0)
@@ -39,7 +30,7 @@ void SolidBody::extend_tensor(Body& body, const BodyStep& s) {
 }
 
 FixedWall::FixedWall(const BodyConfig& body, const BodyContext& ctx)
-    : BodyPhysics(body, ctx), viscosity_(solid_viscosity(body, ctx.run)) {}
+    : BodyPhysics(body, ctx), viscosity_(body.solid_viscosity_or(ctx.run.fluid.viscosity)) {}
 
 bool FixedWall::add_pinning(const Body& body, Field& chi) const {
     // Pinned bodies never move, so their share of K = dt chi / tau is fixed.

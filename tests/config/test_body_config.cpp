@@ -158,3 +158,14 @@ radius = 0.25
     EXPECT_THAT(input_error_of([&] { case_from(membrane("pinned = true\n")); }),
                 HasSubstr("pinned = true is only for kind = \"solid\""));
 }
+
+TEST(BodyConfig, MapInterpolationAndSmoothingWidthAreChecked) {
+    EXPECT_EQ(case_from(membrane("")).bodies[0].map_interpolation, MapInterpolation::Cubic);
+    EXPECT_EQ(case_from(membrane("map_interpolation = \"linear\"\n")).bodies[0].map_interpolation,
+              MapInterpolation::Linear);
+    EXPECT_THAT(input_error_of([&] { case_from(membrane("map_interpolation = \"quintic\"\n")); }),
+                HasSubstr("body[0].map_interpolation"));
+    // The VOF's MTHINC beta of a smoothed body is 1 / smoothing_width, at most 50.
+    EXPECT_THAT(input_error_of([&] { case_from(membrane("smoothing_width = 0.01\n")); }),
+                HasSubstr("body[0].smoothing_width"));
+}

@@ -226,6 +226,11 @@ TEST(Config, OutOfRangeValueIsNamed) {
                     case_from(base_case, {{"stability.max_tensor_trace", "2"}});
                 }),
                 HasSubstr("stability.max_tensor_trace"));
+    // MTHINC's closed-form integral keeps its exponentials in range up to beta = 50.
+    EXPECT_THAT(input_error_of([] {
+                    case_from(base_case, {{"vof.beta_mthinc", "60"}});
+                }),
+                HasSubstr("vof.beta_mthinc"));
 }
 
 TEST(Config, MissingRequiredKeyIsNamed) {

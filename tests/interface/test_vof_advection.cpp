@@ -230,3 +230,64 @@ TEST(Thinc, SlabIntegralMatchesReconstructionAndBoxIntegral) {
                                       mthinc_box_integral(r, lo, hi));
                         }
 }
+
+// MthincBoxRule's closed form (one exp and one log per evaluation) against the sum of
+// ln cosh differences it replaced, evaluated in long double: the integral and its
+// derivative in d over whole cells and slabs, for sharp and smooth profiles.
+TEST(Thinc, ClosedFormBoxIntegralMatchesTheLnCoshForm) {
+    using L = long double;
+    const auto log_cosh_l = [](L z) {
+        const L a = std::fabs(z);
+        return a + std::log1p(std::exp(-2 * a)) - std::log(L(2));
+    };
+    const L g = 1 / std::sqrt(L(3));
+    for (int dim : {2, 3})
+        for (real beta : {0.3, 1.0, 2.0, 10.0})
+            for (const Real3& grad : {Real3{0.3, -0.8, 0.5}, Real3{-1, -1, 1}, Real3{0.9, 0.2, 0}})
+                for (real d : {-1.3, -0.2, 0.0, 0.45, 2.0})
+                    for (int slab : {-1, 0, 1, 2}) { // -1: the whole cell, else that direction
+                        if (slab >= dim) continue;
+                        Mthinc r = mthinc_normal(grad, beta, dim);
+                        r.d = d;
+                        Real3 lo{-0.5, -0.5, -0.5}, hi{0.5, 0.5, 0.5};
+                        if (slab >= 0) lo[slab] = 0.5 - 0.37;
+                        L weight = 1, sum = 0, dsum = 0;
+                        int others[2] = {0, 0}, no = 0;
+                        for (int e = 0; e < dim; ++e)
+                            if (e != r.m) {
+                                others[no++] = e;
+                                weight *= L(0.5) * (L(hi[e]) - lo[e]);
+                            }
+                        const L nm = r.n[r.m];
+                        for (int q = 0; q < (1 << no); ++q) {
+                            L level = d;
+                            for (int a = 0; a < no; ++a) {
+                                const int e = others[a];
+                                const L mid = L(0.5) * (L(lo[e]) + hi[e]),
+                                        half = L(0.5) * (L(hi[e]) - lo[e]);
+                                level += r.n[e] * (mid + ((q >> a) & 1 ? g : -g) * half);
+                            }
+                            const L zh = beta * (nm * hi[r.m] + level),
+                                    zl = beta * (nm * lo[r.m] + level);
+                            sum += L(0.5) * ((L(hi[r.m]) - lo[r.m]) +
+                                             (log_cosh_l(zh) - log_cosh_l(zl)) / (beta * nm));
+                            dsum += L(0.5) * (std::tanh(zh) - std::tanh(zl)) / nm;
+                        }
+                        real slope = 0;
+                        const real v = mthinc_box_integral(r, lo, hi, &slope);
+                        EXPECT_NEAR(v, real(weight * sum), 1e-15)
+                            << "dim " << dim << " beta " << beta << " d " << d << " slab " << slab;
+                        EXPECT_NEAR(slope, real(weight * dsum), 1e-14 * beta);
+                    }
+}
+
+TEST(VofAdvection, MthincBetaAboveTheLimitIsRefused) {
+    const GlobalGrid g = box_grid({12, 10, 1}, 0.1, 2);
+    Decomposition dec(MPI_COMM_WORLD, g, {true, true, true});
+    const HaloFiller halos(dec, BoxBoundaries{});
+    VofOptions opt;
+    opt.beta_mthinc = 2 * mthinc_beta_max;
+    EXPECT_THROW(VofAdvection(halos, opt), InputError);
+    opt.beta_mthinc = mthinc_beta_max;
+    EXPECT_NO_THROW(VofAdvection(halos, opt));
+}
