@@ -63,6 +63,7 @@ class ConservativeReinit {
     int iterations_;
     Field work_;                ///< phi with 2 halo layers
     Field psi_a_;               ///< e ln(phi / (1 - phi)), 2 halo layers
+    Field expo_;                ///< exp(psi_a / 2e) = sqrt(phi / (1 - phi)), 2 halo layers
     std::array<Field, 3> grad_; ///< fourth-order central gradient of psi_a, per component
 };
 
