@@ -1,6 +1,8 @@
 #include "membrane/membrane_force.hpp"
 
 #include "core/error.hpp"
+#include "membrane/neo_hookean.hpp"
+#include "membrane/skalak.hpp"
 
 #include <algorithm>
 #include <cmath>
@@ -14,6 +16,158 @@ bool inside(const Box& b, const Int3& p) {
     for (int d = 0; d < 3; ++d)
         if (p[d] < b.lo[d] || p[d] >= b.hi[d]) return false;
     return true;
+}
+
+// Pass 1 of MembraneForce::add, the same arithmetic as membrane_stress_at on every cell of
+// `grown` in for_each_in order, batched: the stencil values (psi = eps atanh(2 phi - 1) for
+// the distance stencil, else phi) and the cutoff test are evaluated once per cell into work
+// arrays on `grown` plus one layer, the 3^dim band test is a separable AND of the cutoff
+// flags, the gradient reads the work array at fixed linear offsets (same terms, same order,
+// so the result is bit-for-bit that of gradient_at), and the law is a template parameter so
+// a final law's energy derivatives are called directly.
+struct BandScratch {
+    std::vector<real>& value;
+    std::vector<unsigned char>&ok, &tmp;
+};
+
+template <class Law>
+void band_stress(const Field& phi, const SymmetricTensorField& Gs, const Law& law,
+                 const GlobalGrid& g, const MembraneForceSettings& s, const Box& grown,
+                 BandScratch& w, SymmetricTensorField& stress, std::vector<Int3>& band) {
+    const int dim = g.dim;
+    const bool distance = s.stencil == GradientStencil::Distance;
+    const real eps = s.smoothing_width * g.dx(0);
+    Box W = grown; // grown plus the stencil's layer
+    for (int d = 0; d < dim; ++d) {
+        W.lo[d] -= 1;
+        W.hi[d] += 1;
+    }
+    const int ex = W.hi[0] - W.lo[0], ey = W.hi[1] - W.lo[1], ez = W.hi[2] - W.lo[2];
+    if (ex <= 0 || ey <= 0 || ez <= 0) return;
+    const std::ptrdiff_t sx = 1, sy = ex, sz = std::ptrdiff_t(ex) * ey;
+    const std::size_t n = std::size_t(ex) * ey * ez;
+    w.value.resize(n);
+    w.ok.resize(n);
+    w.tmp.resize(n);
+    real* val = w.value.data();
+    unsigned char* ok = w.ok.data();
+    unsigned char* tmp = w.tmp.data();
+    const real lo_cut = s.band_cutoff, hi_cut = 1 - s.band_cutoff;
+    for (int k = 0; k < ez; ++k)
+        for (int j = 0; j < ey; ++j) {
+            const real* pr = phi.data().data() + phi.index(W.lo[0], W.lo[1] + j, W.lo[2] + k);
+            const std::size_t row = std::size_t(j) * sy + std::size_t(k) * sz;
+            for (int i = 0; i < ex; ++i) {
+                const real v = pr[i];
+                const bool o = v > lo_cut && v < hi_cut;
+                ok[row + i] = o;
+                if (!distance) {
+                    val[row + i] = v;
+                } else if (o) { // only cells of a band stencil are read
+                    const real c = std::clamp(v, 1e-9, 1 - 1e-9);
+                    val[row + i] = eps * std::atanh(2 * c - 1);
+                } else {
+                    val[row + i] = 0;
+                }
+            }
+        }
+    // Separable AND over the 3^dim block: along x into tmp, along y into ok, along z
+    // into tmp (3D); entries on the faces of W are left unset and never read.
+    auto and3 = [&](const unsigned char* in, unsigned char* out, std::ptrdiff_t st, int d) {
+        for (int k = (d == 2); k < ez - (d == 2); ++k)
+            for (int j = (d == 1); j < ey - (d == 1); ++j) {
+                const std::size_t row = std::size_t(j) * sy + std::size_t(k) * sz;
+                for (int i = (d == 0); i < ex - (d == 0); ++i) {
+                    const std::size_t l = row + i;
+                    out[l] = in[l - st] & in[l] & in[l + st];
+                }
+            }
+    };
+    and3(ok, tmp, sx, 0);
+    and3(tmp, ok, sy, 1);
+    const unsigned char* in_block = ok;
+    if (dim == 3) {
+        and3(ok, tmp, sz, 2);
+        in_block = tmp;
+    }
+    // The gradient stencil (gradient_at): per direction d the transverse offsets in the
+    // same order, their weights and the linear offsets of q + e_d and q - e_d.
+    const real a = s.stencil == GradientStencil::Central  ? 0.0
+                   : s.stencil == GradientStencil::Youngs ? 0.25
+                                                          : 1.0 / 6.0;
+    const real wt[3] = {a, 1 - 2 * a, a};
+    const std::ptrdiff_t stride[3] = {sx, sy, sz};
+    int terms[3] = {0, 0, 0};
+    real weight[3][9];
+    std::ptrdiff_t off_p[3][9], off_m[3][9];
+    real denom[3] = {1, 1, 1};
+    for (int d = 0; d < dim; ++d) {
+        const int t1 = (d + 1) % 3, t2 = (d + 2) % 3;
+        const int r1 = t1 < dim ? 1 : 0, r2 = t2 < dim ? 1 : 0;
+        for (int o1 = -r1; o1 <= r1; ++o1)
+            for (int o2 = -r2; o2 <= r2; ++o2) {
+                const int m = terms[d]++;
+                weight[d][m] = (r1 ? wt[o1 + 1] : 1.0) * (r2 ? wt[o2 + 1] : 1.0);
+                const std::ptrdiff_t base = o1 * stride[t1] + o2 * stride[t2];
+                off_p[d][m] = base + stride[d];
+                off_m[d][m] = base - stride[d];
+            }
+        denom[d] = 2 * g.dx(d);
+    }
+    // Gs components (or the constant of an unstored one) per (a, b).
+    const Field* gf[3][3];
+    real gconst[3][3];
+    for (int a0 = 0; a0 < 3; ++a0)
+        for (int b0 = 0; b0 < 3; ++b0) {
+            const int sl = SymmetricTensorField::slot(a0, b0, Gs.dim);
+            gf[a0][b0] = sl >= 0 ? &Gs.comp[sl] : nullptr;
+            gconst[a0][b0] = (a0 == 2 && b0 == 2) ? Gs.zz_2d : 0.0;
+        }
+    Field* sf[3][3] = {};
+    for (int a0 = 0; a0 < dim; ++a0)
+        for (int b0 = a0; b0 < dim; ++b0)
+            sf[a0][b0] = &stress.comp[SymmetricTensorField::slot(a0, b0, dim)];
+    const real c2 = s.min_normal_consistency * s.min_normal_consistency;
+    const real ar2 = s.min_area_ratio * s.min_area_ratio;
+
+    for (int k = grown.lo[2]; k < grown.hi[2]; ++k)
+        for (int j = grown.lo[1]; j < grown.hi[1]; ++j) {
+            const std::size_t row = std::size_t(j - W.lo[1]) * sy + std::size_t(k - W.lo[2]) * sz;
+            for (int i = grown.lo[0]; i < grown.hi[0]; ++i) {
+                const std::size_t l = row + std::size_t(i - W.lo[0]);
+                if (!in_block[l]) continue;
+                const real* v = val + l;
+                Real3 gr{0, 0, 0};
+                for (int d = 0; d < dim; ++d) {
+                    real acc = 0;
+                    for (int m = 0; m < terms[d]; ++m)
+                        acc += weight[d][m] * (v[off_p[d][m]] - v[off_m[d][m]]);
+                    gr[d] = acc / denom[d];
+                }
+                const real mag = std::sqrt(gr[0] * gr[0] + gr[1] * gr[1] + gr[2] * gr[2]);
+                real delta = mag;
+                if (distance) {
+                    const real c = std::clamp(phi(i, j, k), 1e-9, 1 - 1e-9);
+                    delta = 2 * c * (1 - c) / eps * mag;
+                }
+                if (!(mag > 0)) continue;
+                if (distance && mag < s.min_distance_gradient) continue;
+                const Real3 nn{gr[0] / mag, gr[1] / mag, gr[2] / mag};
+                Matrix3 G{};
+                for (int a0 = 0; a0 < 3; ++a0)
+                    for (int b0 = 0; b0 < 3; ++b0)
+                        G[a0][b0] = gf[a0][b0] ? (*gf[a0][b0])(i, j, k) : gconst[a0][b0];
+                const MembraneKinematics kin = membrane_kinematics(nn, G);
+                const real JG2 = second_invariant(G);
+                if (JG2 < ar2 || kin.IIs + 1 < c2 * JG2) continue;
+                const Matrix3 tau =
+                    MembraneLaw::tension_from(law.energy_derivatives(kin.Is, kin.IIs), kin);
+                for (int a0 = 0; a0 < dim; ++a0)
+                    for (int b0 = a0; b0 < dim; ++b0)
+                        (*sf[a0][b0])(i, j, k) = delta * tau[a0][b0];
+                band.push_back({i, j, k});
+            }
+        }
 }
 
 } // namespace
@@ -143,17 +297,18 @@ void MembraneForce::add(Body& body, const MembraneLaw& law, VelocityField& force
         grown.lo[d] -= 1;
         grown.hi[d] += 1;
     }
-    for_each_in(grown, [&](int i, int j, int k) {
-        const Int3 q{i, j, k};
-        bool in_band = false;
-        const Matrix3 S =
-            membrane_stress_at(body.phi(), body.tensor(), law, g_, settings_, q, in_band);
-        if (!in_band) return;
-        for (int a = 0; a < dim; ++a)
-            for (int b = a; b < dim; ++b)
-                stress_.comp[SymmetricTensorField::slot(a, b, dim)](q) = S[a][b];
-        band_.push_back(q);
-    });
+    {
+        BandScratch scratch{work_value_, work_ok_, work_tmp_};
+        if (const auto* nh = dynamic_cast<const NeoHookeanLaw*>(&law))
+            band_stress(body.phi(), body.tensor(), *nh, g_, settings_, grown, scratch, stress_,
+                        band_);
+        else if (const auto* sk = dynamic_cast<const SkalakLaw*>(&law))
+            band_stress(body.phi(), body.tensor(), *sk, g_, settings_, grown, scratch, stress_,
+                        band_);
+        else
+            band_stress(body.phi(), body.tensor(), law, g_, settings_, grown, scratch, stress_,
+                        band_);
+    }
 
     // Pass 2: scatter the staggered divergence of S from each band cell q to the faces
     // whose stencil contains q (the transpose of the gather formula in the header), on the
@@ -162,7 +317,45 @@ void MembraneForce::add(Body& body, const MembraneLaw& law, VelocityField& force
     auto add_to = [&](int d, const Int3& p, real v) {
         if (inside(faces, p)) force[d](p) += v;
     };
-    for (const Int3& q : band_)
+    // Band cells at least one cell inside the owned box touch only owned faces: there the
+    // same additions in the same order go through linear offsets, without the box test.
+    Box inner = faces;
+    for (int d = 0; d < dim; ++d) {
+        inner.lo[d] += 1;
+        inner.hi[d] -= 1;
+    }
+    const Field* sc[3][3] = {};
+    for (int a = 0; a < dim; ++a)
+        for (int b = 0; b < dim; ++b)
+            sc[a][b] = &stress_.comp[SymmetricTensorField::slot(a, b, dim)];
+    std::ptrdiff_t fstride[3][3] = {}; // fstride[d][k]: offset of e_k in force[d]
+    for (int d = 0; d < dim; ++d) {
+        const Int3& e = force[d].extent();
+        fstride[d][0] = 1;
+        fstride[d][1] = e[0];
+        fstride[d][2] = std::ptrdiff_t(e[0]) * e[1];
+    }
+    for (const Int3& q : band_) {
+        if (inside(inner, q)) {
+            const std::size_t sq = sc[0][0]->index(q[0], q[1], q[2]);
+            for (int d = 0; d < dim; ++d) {
+                real* f = force[d].data().data() + force[d].index(q[0], q[1], q[2]);
+                const std::ptrdiff_t sd = fstride[d][d];
+                const real Sdd = sc[d][d]->data()[sq] / g_.dx(d);
+                f[0] += Sdd;
+                f[sd] += -Sdd;
+                for (int k = 0; k < dim; ++k) {
+                    if (k == d) continue;
+                    const std::ptrdiff_t sk = fstride[d][k];
+                    const real v = sc[d][k]->data()[sq] / (4 * g_.dx(k));
+                    f[-sk] += v;
+                    f[-sk + sd] += v;
+                    f[sk] += -v;
+                    f[sk + sd] += -v;
+                }
+            }
+            continue;
+        }
         for (int d = 0; d < dim; ++d) {
             const Int3 ed = unit(d);
             const real Sdd = stress_.value(d, d, q) / g_.dx(d);
@@ -184,6 +377,7 @@ void MembraneForce::add(Body& body, const MembraneLaw& law, VelocityField& force
                 add_to(d, {p[0] + ed[0], p[1] + ed[1], p[2] + ed[2]}, -v);
             }
         }
+    }
 
     if (bending) add_bending(body, force);
 }

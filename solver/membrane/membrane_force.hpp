@@ -142,6 +142,9 @@ class MembraneForce {
     SymmetricTensorField stress_;
     Box stress_box_{};
     std::vector<Int3> band_;
+    // Pass-1 scratch on the patch plus two layers: stencil values (psi or phi) and band flags.
+    std::vector<real> work_value_;
+    std::vector<unsigned char> work_ok_, work_tmp_;
     // Bending scratch (allocated only when bending_modulus > 0), on the patch:
     Field psi_;              ///< eps atanh(2 phi - 1), halo 2
     Field band_mask_;        ///< 1 on band cells, halo 1

@@ -32,7 +32,11 @@ class MembraneLaw {
 
     /// In-plane Cauchy tension tau_s (force per unit current length), a tangential tensor.
     Matrix3 tension(const MembraneKinematics& k) const {
-        const EnergyDerivatives e = energy_derivatives(k.Is, k.IIs);
+        return tension_from(energy_derivatives(k.Is, k.IIs), k);
+    }
+
+    /// tau_s from the energy derivatives at k (the formula in the file header).
+    static Matrix3 tension_from(const EnergyDerivatives& e, const MembraneKinematics& k) {
         const real a = 2 * e.dW_dIs / k.J, b = 2 * k.J * e.dW_dIIs;
         Matrix3 tau{};
         for (int i = 0; i < 3; ++i)
