@@ -1,5 +1,6 @@
 #include "boundary/boundary.hpp"
 
+#include <algorithm>
 #include <cassert>
 #include <cmath>
 
@@ -21,17 +22,47 @@ real FaceBoundary::velocity_at(int c, real t) const {
     return frequency > 0 ? velocity[c] * std::sin(frequency * t) : velocity[c];
 }
 
+namespace {
+
+/// op(ghost, mirror) for every point of the plane at storage index `to` along d and of the
+/// plane at `from`, over the whole stored extent of the other directions (halos included).
+/// Storage indices count from the first halo layer (0 .. extent - 1). The innermost loop
+/// runs along the stored rows (unit stride) unless d is x.
+template <class Op>
+void for_plane_pair(Field& f, int d, int to, int from, Op&& op) {
+    const Int3& e = f.extent();
+    real* const a = f.data().data();
+    const std::ptrdiff_t s1 = e[0], s2 = std::ptrdiff_t(e[0]) * e[1];
+    if (d == 0) {
+        for (int k = 0; k < e[2]; ++k)
+            for (int j = 0; j < e[1]; ++j) {
+                real* row = a + j * s1 + k * s2;
+                op(row[to], row[from]);
+            }
+    } else if (d == 1) {
+        for (int k = 0; k < e[2]; ++k) {
+            real* dst = a + k * s2 + to * s1;
+            const real* src = a + k * s2 + from * s1;
+            for (int i = 0; i < e[0]; ++i)
+                op(dst[i], src[i]);
+        }
+    } else {
+        real* dst = a + to * s2;
+        const real* src = a + from * s2;
+        for (std::ptrdiff_t i = 0; i < s2; ++i)
+            op(dst[i], src[i]);
+    }
+}
+
+} // namespace
+
 void HaloFiller::apply_wall(Field& f, int d, int side, Mirror mirror, real wall_value) const {
     if (bc_[d][side].type == BoundaryType::Periodic || !dec_.at_boundary(d, side)) return;
     const Int3 n = f.cells();
     assert(f.begin() == Int3({0, 0, 0}) && "whole-block fields only; patches exchange elsewhere");
     const Int3 h = f.halo();
     const int g = h[d];
-    // Sweep the whole wall plane, halos of the other directions included.
-    Int3 lo{-h[0], -h[1], -h[2]}, hi{n[0] + h[0], n[1] + h[1], n[2] + h[2]};
-    lo[d] = 0;
-    hi[d] = 1;
-    // Index along d of the l-th ghost and of the interior point it mirrors.
+    // Index along d of the l-th ghost and of the interior point it mirrors (block-local).
     auto ghost_of = [&](int l) {
         if (mirror == Mirror::NormalFace) return side == 0 ? -l : n[d] + l;
         return side == 0 ? -1 - l : n[d] + l;
@@ -40,28 +71,26 @@ void HaloFiller::apply_wall(Field& f, int d, int side, Mirror mirror, real wall_
         if (mirror == Mirror::NormalFace) return side == 0 ? l : n[d] - l;
         return side == 0 ? l : n[d] - 1 - l;
     };
-    for (int k = lo[2]; k < hi[2]; ++k)
-        for (int j = lo[1]; j < hi[1]; ++j)
-            for (int i = lo[0]; i < hi[0]; ++i) {
-                Int3 gp{i, j, k}, mp{i, j, k};
-                if (mirror == Mirror::NormalFace) {
-                    // The wall face itself: index 0 (owned) or n (first high halo).
-                    gp[d] = ghost_of(0);
-                    f(gp) = 0;
-                    const int layers = side == 0 ? g : g - 1;
-                    for (int l = 1; l <= layers; ++l) {
-                        gp[d] = ghost_of(l);
-                        mp[d] = mirror_of(l);
-                        f(gp) = -f(mp);
-                    }
-                } else {
-                    for (int l = 0; l < g; ++l) {
-                        gp[d] = ghost_of(l);
-                        mp[d] = mirror_of(l);
-                        f(gp) = mirror == Mirror::Even ? f(mp) : 2 * wall_value - f(mp);
-                    }
-                }
-            }
+    // The whole wall plane, halos of the other directions included; ghosts and the points
+    // they mirror are distinct, so the planes can be done one after the other.
+    if (mirror == Mirror::NormalFace) {
+        // The wall face itself: index 0 (owned) or n (first high halo).
+        const int face = ghost_of(0) + g;
+        for_plane_pair(f, d, face, face, [](real& v, real) { v = 0; });
+        const int layers = side == 0 ? g : g - 1;
+        for (int l = 1; l <= layers; ++l)
+            for_plane_pair(f, d, ghost_of(l) + g, mirror_of(l) + g,
+                           [](real& v, real m) { v = -m; });
+    } else {
+        for (int l = 0; l < g; ++l) {
+            if (mirror == Mirror::Even)
+                for_plane_pair(f, d, ghost_of(l) + g, mirror_of(l) + g,
+                               [](real& v, real m) { v = m; });
+            else
+                for_plane_pair(f, d, ghost_of(l) + g, mirror_of(l) + g,
+                               [w = 2 * wall_value](real& v, real m) { v = w - m; });
+        }
+    }
 }
 
 void HaloFiller::fill(Field& f) const {
@@ -74,27 +103,20 @@ void HaloFiller::fill(Field& f) const {
 
 void HaloFiller::fill(Field& f, const Patch& patch) const {
     if (patch.empty()) return;
-    const Int3 b = f.begin();
     const Int3 n = f.cells();
     const Int3 h = f.halo();
     for (int d = 0; d < dec_.dim(); ++d) {
         dec_.exchange(f, d, patch.exchange[d][0], patch.exchange[d][1]);
-        Int3 lo{b[0] - h[0], b[1] - h[1], b[2] - h[2]};
-        Int3 hi{b[0] + n[0] + h[0], b[1] + n[1] + h[1], b[2] + n[2] + h[2]};
         for (int side = 0; side < 2; ++side) {
             if (patch.exchange[d][side]) continue;
-            Box plane{lo, hi};
-            plane.lo[d] = 0;
-            plane.hi[d] = 1;
-            for_each_in(plane, [&](int i, int j, int k) {
-                for (int l = 0; l < h[d]; ++l) {
-                    Int3 ghost{i, j, k}, mirror{i, j, k};
-                    ghost[d] = side == 0 ? b[d] - 1 - l : b[d] + n[d] + l;
-                    mirror[d] = side == 0 ? b[d] + std::min(l, n[d] - 1)
-                                          : b[d] + n[d] - 1 - std::min(l, n[d] - 1);
-                    f(ghost) = f(mirror);
-                }
-            });
+            for (int l = 0; l < h[d]; ++l) {
+                // Storage indices along d (from the first halo layer) of the ghost and of
+                // the owned point it mirrors.
+                const int m = std::min(l, n[d] - 1);
+                const int ghost = side == 0 ? h[d] - 1 - l : h[d] + n[d] + l;
+                const int mirror = side == 0 ? h[d] + m : h[d] + n[d] - 1 - m;
+                for_plane_pair(f, d, ghost, mirror, [](real& v, real s) { v = s; });
+            }
         }
     }
 }

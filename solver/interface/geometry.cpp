@@ -16,18 +16,13 @@ GradientStencil gradient_stencil_from_string(const std::string& s) {
                      "' is unknown (central, youngs, isotropic, distance)");
 }
 
-Real3 gradient_at(const Field& phi, const GlobalGrid& g, const Int3& p, GradientStencil st,
-                  real eps) {
+Real3 distance_gradient_at(const Field& phi, const GlobalGrid& g, const Int3& p, real eps) {
     const int dim = g.dim;
-    const bool distance = st == GradientStencil::Distance;
     auto value = [&](const Int3& q) {
-        if (!distance) return phi(q);
         const real c = std::clamp(phi(q), 1e-9, 1 - 1e-9);
         return eps * std::atanh(2 * c - 1);
     };
-    const real a = st == GradientStencil::Central  ? 0.0
-                   : st == GradientStencil::Youngs ? 0.25
-                                                   : 1.0 / 6.0;
+    const real a = 1.0 / 6.0; // the isotropic weights
     const real w[3] = {a, 1 - 2 * a, a};
     Real3 grad{0, 0, 0};
     for (int d = 0; d < dim; ++d) {

@@ -28,6 +28,7 @@
 
 #include <algorithm>
 #include <cmath>
+#include <cstddef>
 #include <string>
 
 namespace efsi {
@@ -55,10 +56,40 @@ inline Real3 central_gradient(const Field& f, const GlobalGrid& g, const Int3& p
     return gp;
 }
 
+/// gradient_at with GradientStencil::Distance.
+Real3 distance_gradient_at(const Field& phi, const GlobalGrid& g, const Int3& p, real eps);
+
 /// Gradient of a cell field at cell p with the chosen transverse weighting.
 /// For `Distance`, `eps` is the smoothing width of phi's tanh profile.
-Real3 gradient_at(const Field& phi, const GlobalGrid& g, const Int3& p, GradientStencil st,
-                  real eps = 0);
+/// Inline (the other stencils) so that a loop calling it with a fixed stencil gets constant
+/// weights and unrolled sums; the points through one base pointer and the field's strides.
+inline Real3 gradient_at(const Field& phi, const GlobalGrid& g, const Int3& p, GradientStencil st,
+                         real eps = 0) {
+    if (st == GradientStencil::Distance) return distance_gradient_at(phi, g, p, eps);
+    const int dim = g.dim;
+    const real a = st == GradientStencil::Central  ? 0.0
+                   : st == GradientStencil::Youngs ? 0.25
+                                                   : 1.0 / 6.0;
+    const real w[3] = {a, 1 - 2 * a, a};
+    const Int3& e = phi.extent();
+    const std::ptrdiff_t stride[3] = {1, e[0], std::ptrdiff_t(e[0]) * e[1]};
+    const real* const centre = phi.data().data() + phi.index(p[0], p[1], p[2]);
+    Real3 grad{0, 0, 0};
+    for (int d = 0; d < dim; ++d) {
+        // The two transverse directions (the second is absent in 2D).
+        const int t1 = (d + 1) % 3, t2 = (d + 2) % 3;
+        const int r1 = t1 < dim ? 1 : 0, r2 = t2 < dim ? 1 : 0;
+        real acc = 0;
+        for (int o1 = -r1; o1 <= r1; ++o1)
+            for (int o2 = -r2; o2 <= r2; ++o2) {
+                const real* q = centre + o1 * stride[t1] + o2 * stride[t2];
+                const real weight = (r1 ? w[o1 + 1] : 1.0) * (r2 ? w[o2 + 1] : 1.0);
+                acc += weight * (q[stride[d]] - q[-stride[d]]);
+            }
+        grad[d] = acc / (2 * g.dx(d));
+    }
+    return grad;
+}
 
 /// Unit normals n = grad phi / |grad phi| on `box` (zero where |grad phi| < tiny).
 void compute_normals(const Field& phi, const GlobalGrid& g, const Box& box, GradientStencil st,

@@ -59,11 +59,20 @@ bool NormalExtension::prepare(Body& body, const std::vector<const Field*>& field
                 src_.push_back(Field::on_patch("extension_source", Location::Cell, phi.begin(),
                                                phi.cells(), dim, wide_halo_));
         }
-        for_each_in(phi.owned(), [&](int i, int j, int k) {
-            psi_(i, j, k) = profile_distance(phi(i, j, k), eps);
-            for (int s = 0; s < ncomp; ++s)
-                src_[s](i, j, k) = (*fields[s])(i, j, k);
-        });
+        // Row by row: psi, then a copy of each field's owned values.
+        const Box own = phi.owned();
+        const int nx = own.hi[0] - own.lo[0];
+        for (int k = own.lo[2]; k < own.hi[2]; ++k)
+            for (int j = own.lo[1]; j < own.hi[1]; ++j) {
+                const real* f = phi.data().data() + phi.index(own.lo[0], j, k);
+                real* p = &psi_(own.lo[0], j, k);
+                for (int i = 0; i < nx; ++i)
+                    p[i] = profile_distance(f[i], eps);
+                for (int s = 0; s < ncomp; ++s) {
+                    const real* from = fields[s]->data().data() + fields[s]->index(own.lo[0], j, k);
+                    std::copy(from, from + nx, &src_[s](own.lo[0], j, k));
+                }
+            }
     }
     // Collective: every rank with a part of the patch takes part (the patch's exchange
     // flags pair the ranks).
@@ -78,7 +87,7 @@ bool NormalExtension::prepare(Body& body, const std::vector<const Field*>& field
 // makes no new extrema. (Tricubic Catmull-Rom, exact for quadratics, was tried: it moved
 // D(1) of the d/8 Ca 0.05 capsule by 1 % only, and the d/8 Ca 0.2 run that completes
 // t = 10 with trilinear stopped UNSTABLE at t = 1.9 with it; docs/method.md.)
-real NormalExtension::interpolate(const Field& f, const Real3& x) const {
+NormalExtension::Trilinear NormalExtension::trilinear_at(const Real3& x) const {
     const Decomposition& dec = halos_.decomposition();
     const GlobalGrid& g = dec.grid();
     const int dim = g.dim;
@@ -89,15 +98,26 @@ real NormalExtension::interpolate(const Field& f, const Real3& x) const {
         base[d] = int(std::floor(u));
         t[d] = u - base[d];
     }
-    real r = 0;
+    Trilinear r;
+    r.corner = src_.front().index(base[0], base[1], base[2]);
     const int kz = dim == 3 ? 2 : 1;
     for (int c = 0; c < kz; ++c)
         for (int b = 0; b < 2; ++b)
-            for (int a = 0; a < 2; ++a) {
-                const real w = (a ? t[0] : 1 - t[0]) * (b ? t[1] : 1 - t[1]) *
-                               (dim == 3 ? (c ? t[2] : 1 - t[2]) : 1.0);
-                r += w * f(base[0] + a, base[1] + b, base[2] + c);
-            }
+            for (int a = 0; a < 2; ++a)
+                r.weight[4 * c + 2 * b + a] = (a ? t[0] : 1 - t[0]) * (b ? t[1] : 1 - t[1]) *
+                                              (dim == 3 ? (c ? t[2] : 1 - t[2]) : 1.0);
+    return r;
+}
+
+real NormalExtension::interpolate(const Field& f, const Trilinear& at) const {
+    const int kz = halos_.decomposition().grid().dim == 3 ? 2 : 1;
+    const std::ptrdiff_t s1 = f.extent()[0], s2 = std::ptrdiff_t(f.extent()[0]) * f.extent()[1];
+    const real* const p = f.data().data() + at.corner;
+    real r = 0;
+    for (int c = 0; c < kz; ++c)
+        for (int b = 0; b < 2; ++b)
+            for (int a = 0; a < 2; ++a)
+                r += at.weight[4 * c + 2 * b + a] * p[a + b * s1 + c * s2];
     return r;
 }
 
@@ -184,13 +204,15 @@ void NormalExtension::apply_tensor(Body& body, real core_cells, const Field* wei
             Real3 y = position(g, block, Location::Cell, i, j, k);
             for (int d = 0; d < dim; ++d)
                 y[d] -= s * n[d];
+            // One set of weights serves every component (src_ fields share one layout).
+            const Trilinear at = trilinear_at(y);
             std::array<real, 6> v{};
             for (int s2 = 0; s2 < ncomp; ++s2)
-                v[s2] = interpolate(src_[s2], y);
+                v[s2] = interpolate(src_[s2], at);
             if (weight) {
                 // The components hold w Gs: the mean over the valid cells of the stencil
                 // (I where none is).
-                const real w = interpolate(src_[ncomp], y);
+                const real w = interpolate(src_[ncomp], at);
                 for (int s2 = 0; s2 < ncomp; ++s2)
                     v[s2] = w > 1e-3 ? v[s2] / w : (s2 < dim ? 1.0 : 0.0);
             }
@@ -246,8 +268,9 @@ void NormalExtension::apply_reference_map(Body& body, bool whole_band) {
         for (int d = 0; d < dim; ++d)
             y[d] -= s * n[d];
         for (int d = 0; d < dim; ++d)
-            X[d](p) =
-                (cubic_map_ ? interpolate_cubic(src_[d], y) : interpolate(src_[d], y)) - s * n[d];
+            X[d](p) = (cubic_map_ ? interpolate_cubic(src_[d], y)
+                                  : interpolate(src_[d], trilinear_at(y))) -
+                      s * n[d];
     });
     for (Field& c : X)
         halos_.fill(c, body.patch());

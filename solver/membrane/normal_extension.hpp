@@ -23,6 +23,7 @@
 #include "boundary/boundary.hpp"
 #include "grid/field.hpp"
 
+#include <array>
 #include <string>
 #include <vector>
 
@@ -62,8 +63,15 @@ class NormalExtension {
     void apply_tensor(Body& body, real core_cells, const Field* weight = nullptr);
     /// psi and a wide-halo copy of `fields` (src_); false on a rank without the patch.
     bool prepare(Body& body, const std::vector<const Field*>& fields);
-    /// Trilinear interpolant of a src_ field at x.
-    real interpolate(const Field& f, const Real3& x) const;
+    /// The trilinear stencil at x: the index (in src_'s layout) of its low corner and the
+    /// weights of its points, x fastest.
+    struct Trilinear {
+        std::size_t corner = 0;
+        std::array<real, 8> weight{};
+    };
+    Trilinear trilinear_at(const Real3& x) const;
+    /// Trilinear interpolant of a src_ field at the stencil's point.
+    real interpolate(const Field& f, const Trilinear& at) const;
     /// Tensor-product 4-point Lagrange interpolant of a src_ field at x.
     real interpolate_cubic(const Field& f, const Real3& x) const;
     /// psi (s) and unit normal at p; false beyond the reach or where psi is not a distance.

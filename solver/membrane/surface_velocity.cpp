@@ -34,6 +34,43 @@ struct ValueAndGradient {
     Real3 gradient{0, 0, 0};
 };
 
+/// The tensor-product sum over the 4^Dim points from `base` - 1 of `f` with the weights `w`
+/// and their slopes `dw` (per direction): the value and its gradient. The terms and their
+/// order are those of the plain (k, j, i) loop, ((w_x w_y) w_z) v for the value and the like
+/// for the gradient, added up with i fastest; the in-plane products (w_x w_y) are formed
+/// once for all k, and the four sums run side by side in registers.
+template <int Dim>
+ValueAndGradient stencil_sum(const Field& f, const Int3& base,
+                             const std::array<std::array<real, 4>, 3>& w,
+                             const std::array<std::array<real, 4>, 3>& dw) {
+    const std::ptrdiff_t s1 = f.extent()[0], s2 = std::ptrdiff_t(f.extent()[0]) * f.extent()[1];
+    const real* const p0 =
+        f.data().data() + f.index(base[0] - 1, base[1] - 1, Dim == 3 ? base[2] - 1 : 0);
+    // xy[j][i][q]: the x and y factors of sum q (value, d/dx, d/dy, d/dz).
+    real xy[4][4][4];
+    for (int jj = 0; jj < 4; ++jj)
+        for (int ii = 0; ii < 4; ++ii) {
+            xy[jj][ii][0] = w[0][ii] * w[1][jj];
+            xy[jj][ii][1] = dw[0][ii] * w[1][jj];
+            xy[jj][ii][2] = w[0][ii] * dw[1][jj];
+            xy[jj][ii][3] = w[0][ii] * w[1][jj];
+        }
+    real sum[4] = {0, 0, 0, 0};
+    for (int kk = 0; kk < (Dim == 3 ? 4 : 1); ++kk) {
+        const real wz = Dim == 3 ? w[2][kk] : 1.0;
+        const real z[4] = {wz, wz, wz, Dim == 3 ? dw[2][kk] : 0.0};
+        for (int jj = 0; jj < 4; ++jj) {
+            const real* row = p0 + jj * s1 + kk * s2;
+            for (int ii = 0; ii < 4; ++ii) {
+                const real v = row[ii];
+                for (int q = 0; q < 4; ++q)
+                    sum[q] += xy[jj][ii][q] * z[q] * v;
+            }
+        }
+    }
+    return {sum[0], {sum[1], sum[2], Dim == 3 ? sum[3] : 0.0}};
+}
+
 } // namespace
 
 SurfaceVelocity::SurfaceVelocity(const HaloFiller& halos, const std::string& body_name,
@@ -114,20 +151,8 @@ const VelocityField& SurfaceVelocity::compute(const Body& body, real eps_cells, 
             for (real& v : dw[d])
                 v /= g.dx(d);
         }
-        ValueAndGradient r;
-        const int kz = dim == 3 ? 4 : 1;
-        for (int kk = 0; kk < kz; ++kk)
-            for (int jj = 0; jj < 4; ++jj)
-                for (int ii = 0; ii < 4; ++ii) {
-                    const real v = wide_[c](base[0] - 1 + ii, base[1] - 1 + jj,
-                                            dim == 3 ? base[2] - 1 + kk : 0);
-                    const real wz = dim == 3 ? w[2][kk] : 1.0;
-                    r.value += w[0][ii] * w[1][jj] * wz * v;
-                    r.gradient[0] += dw[0][ii] * w[1][jj] * wz * v;
-                    r.gradient[1] += w[0][ii] * dw[1][jj] * wz * v;
-                    if (dim == 3) r.gradient[2] += w[0][ii] * w[1][jj] * dw[2][kk] * v;
-                }
-        return r;
+        return dim == 3 ? stencil_sum<3>(wide_[c], base, w, dw)
+                        : stencil_sum<2>(wide_[c], base, w, dw);
     };
     // Owned faces of the patch's cells (both faces of each: the high one is the next
     // cell's low face). The band lies m >= 2 cells inside the patch, so the faces the

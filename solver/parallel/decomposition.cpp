@@ -108,8 +108,6 @@ void Decomposition::exchange(Field& f, int d, bool with_low, bool with_high) con
     lo[d] = 0;
     hi[d] = g;
     const std::size_t count = std::size_t(hi[0] - lo[0]) * (hi[1] - lo[1]) * (hi[2] - lo[2]);
-    send_.resize(count);
-    recv_.resize(count);
 
     // The slab's rows along x are contiguous in memory: copy them whole.
     const std::size_t row = std::size_t(hi[0] - lo[0]);
@@ -149,6 +147,11 @@ void Decomposition::exchange(Field& f, int d, bool with_low, bool with_high) con
             }
         return;
     }
+    // No neighbour on either side (a wall, or the edge of a body's patch): nothing to send
+    // or receive.
+    if (low == MPI_PROC_NULL && high == MPI_PROC_NULL) return;
+    send_.resize(count);
+    recv_.resize(count);
     send_up_.resize(count);
     recv_up_.resize(count);
     // Both directions at once: my first g layers go down (and my high halo comes from
@@ -156,9 +159,9 @@ void Decomposition::exchange(Field& f, int d, bool with_low, bool with_high) con
     MPI_Request req[4];
     MPI_Irecv(recv_.data(), int(count), mpi_real(), high, 10 + d, cart_, &req[0]);
     MPI_Irecv(recv_up_.data(), int(count), mpi_real(), low, 20 + d, cart_, &req[1]);
-    transfer(first, true, send_.data());
+    if (low != MPI_PROC_NULL) transfer(first, true, send_.data());
     MPI_Isend(send_.data(), int(count), mpi_real(), low, 10 + d, cart_, &req[2]);
-    transfer(last - g, true, send_up_.data());
+    if (high != MPI_PROC_NULL) transfer(last - g, true, send_up_.data());
     MPI_Isend(send_up_.data(), int(count), mpi_real(), high, 20 + d, cart_, &req[3]);
     MPI_Waitall(4, req, MPI_STATUSES_IGNORE);
     if (high != MPI_PROC_NULL) transfer(last, false, recv_.data());
