@@ -127,10 +127,11 @@ struct BodyConfig {
     /// Pseudo-steps per time step of the conservative restoration of phi's tanh profile.
     int profile_iterations = 2;
 
-    /// A moving membrane whose Gs is carried by the surface velocity.
+    /// A membrane whose strain is derived from a transported reference map.
     bool carries_reference_map() const {
         return kind == BodyKind::Membrane && strain_model == StrainModel::ReferenceMap;
     }
+    /// A moving membrane whose Gs (or map) is carried by the surface velocity.
     bool carried_by_surface_velocity() const {
         return kind == BodyKind::Membrane && !pinned && strain_velocity == StrainVelocity::Surface;
     }

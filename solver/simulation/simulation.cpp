@@ -29,13 +29,22 @@ namespace {
 /// velocity, and stiff membranes"); with the reference map (the default), a body a few cells
 /// thick (docs/method.md, "The reference map"). Empty when no body qualifies.
 std::string membrane_instability_hint(const Config& cfg) {
-    std::string names, maps;
+    std::string names, maps, carried;
     for (const BodyConfig& b : cfg.bodies) {
         if (b.carried_by_surface_velocity() && b.strain_extension == StrainExtension::Layers &&
             b.surface_velocity_reach > SurfaceVelocity::stiff_membrane_reach)
             names += (names.empty() ? "'" : ", '") + b.name + "'";
+        else if (b.carried_by_surface_velocity() && !b.carries_reference_map())
+            carried += (carried.empty() ? "'" : ", '") + b.name + "'";
         if (b.carries_reference_map()) maps += (maps.empty() ? "'" : ", '") + b.name + "'";
     }
+    if (names.empty() && maps.empty() && !carried.empty())
+        return fmt::format(". Membranes that carry Gs with the surface velocity ({}) can grow "
+                           "their strain by themselves where the body is thinner than its band "
+                           "(phi never reaches 1/2 there: a red cell on a coarse grid, pressed "
+                           "against a wall); refine the grid or set body.strain_velocity = "
+                           "\"local\" (docs/method.md, \"The red cells of capillary_coarse\")",
+                           carried);
     if (names.empty() && !maps.empty())
         return fmt::format(". Membranes carried by a reference map ({}) lose it where the body "
                            "is only a few cells thick (the two faces' bands overlap: the tips "
