@@ -16,36 +16,6 @@ GradientStencil gradient_stencil_from_string(const std::string& s) {
                      "' is unknown (central, youngs, isotropic, distance)");
 }
 
-Real3 distance_gradient_at(const Field& phi, const GlobalGrid& g, const Int3& p, real eps) {
-    const int dim = g.dim;
-    auto value = [&](const Int3& q) {
-        const real c = std::clamp(phi(q), 1e-9, 1 - 1e-9);
-        return eps * std::atanh(2 * c - 1);
-    };
-    const real a = 1.0 / 6.0; // the isotropic weights
-    const real w[3] = {a, 1 - 2 * a, a};
-    Real3 grad{0, 0, 0};
-    for (int d = 0; d < dim; ++d) {
-        // The two transverse directions (the second is absent in 2D).
-        const int t1 = (d + 1) % 3, t2 = (d + 2) % 3;
-        const int r1 = t1 < dim ? 1 : 0, r2 = t2 < dim ? 1 : 0;
-        real acc = 0;
-        for (int o1 = -r1; o1 <= r1; ++o1)
-            for (int o2 = -r2; o2 <= r2; ++o2) {
-                Int3 q = p;
-                q[t1] += o1;
-                q[t2] += o2;
-                const real weight = (r1 ? w[o1 + 1] : 1.0) * (r2 ? w[o2 + 1] : 1.0);
-                Int3 qp = q, qm = q;
-                qp[d] += 1;
-                qm[d] -= 1;
-                acc += weight * (value(qp) - value(qm));
-            }
-        grad[d] = acc / (2 * g.dx(d));
-    }
-    return grad;
-}
-
 void compute_normals(const Field& phi, const GlobalGrid& g, const Box& box, GradientStencil st,
                      std::array<Field, 3>& n, real eps) {
     for_each_in(box, [&](int i, int j, int k) {

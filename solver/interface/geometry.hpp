@@ -56,20 +56,14 @@ inline Real3 central_gradient(const Field& f, const GlobalGrid& g, const Int3& p
     return gp;
 }
 
-/// gradient_at with GradientStencil::Distance.
-Real3 distance_gradient_at(const Field& phi, const GlobalGrid& g, const Int3& p, real eps);
-
-/// Gradient of a cell field at cell p with the chosen transverse weighting.
-/// For `Distance`, `eps` is the smoothing width of phi's tanh profile.
-/// Inline (the other stencils) so that a loop calling it with a fixed stencil gets constant
-/// weights and unrolled sums; the points through one base pointer and the field's strides.
-inline Real3 gradient_at(const Field& phi, const GlobalGrid& g, const Int3& p, GradientStencil st,
-                         real eps = 0) {
-    if (st == GradientStencil::Distance) return distance_gradient_at(phi, g, p, eps);
+/// The weighted central gradient at cell p of value(phi): the difference along d averaged
+/// over the transverse neighbours with the weights (a, 1 - 2a, a) per direction. The points
+/// are read through one base pointer and the field's strides, so that a loop calling it
+/// with a fixed stencil gets constant weights and unrolled sums.
+template <class Value>
+Real3 weighted_gradient(const Field& phi, const GlobalGrid& g, const Int3& p, real a,
+                        Value&& value) {
     const int dim = g.dim;
-    const real a = st == GradientStencil::Central  ? 0.0
-                   : st == GradientStencil::Youngs ? 0.25
-                                                   : 1.0 / 6.0;
     const real w[3] = {a, 1 - 2 * a, a};
     const Int3& e = phi.extent();
     const std::ptrdiff_t stride[3] = {1, e[0], std::ptrdiff_t(e[0]) * e[1]};
@@ -84,11 +78,27 @@ inline Real3 gradient_at(const Field& phi, const GlobalGrid& g, const Int3& p, G
             for (int o2 = -r2; o2 <= r2; ++o2) {
                 const real* q = centre + o1 * stride[t1] + o2 * stride[t2];
                 const real weight = (r1 ? w[o1 + 1] : 1.0) * (r2 ? w[o2 + 1] : 1.0);
-                acc += weight * (q[stride[d]] - q[-stride[d]]);
+                acc += weight * (value(q[stride[d]]) - value(q[-stride[d]]));
             }
         grad[d] = acc / (2 * g.dx(d));
     }
     return grad;
+}
+
+/// Gradient of a cell field at cell p with the chosen transverse weighting.
+/// For `Distance`, `eps` is the smoothing width of phi's tanh profile: the isotropic
+/// weights on psi = eps atanh(2 phi - 1).
+inline Real3 gradient_at(const Field& phi, const GlobalGrid& g, const Int3& p, GradientStencil st,
+                         real eps = 0) {
+    if (st == GradientStencil::Distance)
+        return weighted_gradient(phi, g, p, 1.0 / 6.0, [eps](real v) {
+            const real c = std::clamp(v, 1e-9, 1 - 1e-9);
+            return eps * std::atanh(2 * c - 1);
+        });
+    const real a = st == GradientStencil::Central  ? 0.0
+                   : st == GradientStencil::Youngs ? 0.25
+                                                   : 1.0 / 6.0;
+    return weighted_gradient(phi, g, p, a, [](real v) { return v; });
 }
 
 /// Unit normals n = grad phi / |grad phi| on `box` (zero where |grad phi| < tiny).
