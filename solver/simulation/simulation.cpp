@@ -30,13 +30,16 @@ namespace {
 /// thick (docs/method.md, "The reference map"). Empty when no body qualifies.
 std::string membrane_instability_hint(const Config& cfg) {
     std::string names, maps, carried;
+    auto append = [](std::string& list, const std::string& name) {
+        list += (list.empty() ? "'" : ", '") + name + "'";
+    };
     for (const BodyConfig& b : cfg.bodies) {
         if (b.carried_by_surface_velocity() && b.strain_extension == StrainExtension::Layers &&
             b.surface_velocity_reach > SurfaceVelocity::stiff_membrane_reach)
-            names += (names.empty() ? "'" : ", '") + b.name + "'";
+            append(names, b.name);
         else if (b.carried_by_surface_velocity() && !b.carries_reference_map())
-            carried += (carried.empty() ? "'" : ", '") + b.name + "'";
-        if (b.carries_reference_map()) maps += (maps.empty() ? "'" : ", '") + b.name + "'";
+            append(carried, b.name);
+        if (b.carries_reference_map()) append(maps, b.name);
     }
     if (names.empty() && maps.empty() && !carried.empty())
         return fmt::format(". Membranes that carry Gs with the surface velocity ({}) can grow "
