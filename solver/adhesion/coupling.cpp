@@ -416,6 +416,63 @@ void Coupling::carry(const VelocityField& u, real dt) {
     }
 }
 
+void Coupling::save(StateRecord& r) const {
+    if (!active_) return;
+    std::vector<std::uint64_t>& id = r.integers["receptor_id"];
+    std::vector<std::uint64_t>& ligand = r.integers["receptor_ligand"];
+    std::vector<double>& x = r.reals["receptor_x"];
+    id.clear();
+    ligand.clear();
+    x.clear();
+    for (const Receptor& q : receptors_) {
+        id.push_back(q.id);
+        ligand.push_back(q.ligand);
+        x.insert(x.end(), q.x.begin(), q.x.end());
+    }
+}
+
+void Coupling::restore(const StateRecord& r) {
+    if (!active_) return;
+    const std::size_t n = receptors_.size();
+    const std::vector<std::uint64_t>& id = r.integer_array("receptor_id", n);
+    const std::vector<double>& x = r.real_array("receptor_x", 3 * n);
+    const std::vector<std::uint64_t>& ligand = r.integer_array("receptor_ligand", n);
+    for (std::size_t k = 0; k < n; ++k) {
+        if (id[k] != receptors_[k].id)
+            throw InputError(fmt::format("array 'receptor_id': entry {} is receptor {} where the "
+                                         "case places receptor {}",
+                                         k, id[k], receptors_[k].id));
+        if (ligand[k] != no_ligand && ligand[k] >= ligands_.size())
+            throw InputError(fmt::format("array 'receptor_ligand': receptor {} is bound to ligand "
+                                         "{}, which does not exist ({} ligands)",
+                                         id[k], ligand[k], ligands_.size()));
+        for (int a = 0; a < 3; ++a)
+            if (!std::isfinite(x[3 * k + a]))
+                throw InputError(fmt::format("array 'receptor_x': receptor {} is at a non-finite "
+                                             "position",
+                                             id[k]));
+    }
+    for (std::uint64_t l = 0; l < ligands_.size(); ++l)
+        ligands_.release(l);
+    for (std::size_t k = 0; k < n; ++k) {
+        Receptor& q = receptors_[k];
+        q.x = {x[3 * k], x[3 * k + 1], x[3 * k + 2]};
+        q.ligand = ligand[k];
+        if (!q.bound()) continue;
+        if (!ligands_.free(q.ligand))
+            throw InputError(fmt::format("array 'receptor_ligand': ligand {} is bound to "
+                                         "receptors {} and {}",
+                                         q.ligand, ligands_.bound_receptor(q.ligand), q.id));
+        ligands_.bind(q.ligand, q.id);
+    }
+    for (BodyReceptors& b : bodies_) {
+        b.bonds = 0;
+        for (std::size_t k = b.begin; k < b.end; ++k)
+            b.bonds += receptors_[k].bound() ? 1 : 0;
+        update_bounds(b);
+    }
+}
+
 void Coupling::advance(const VelocityField& u, real dt, std::uint64_t step) {
     stats_.bodies_near = stats_.bodies_skipped = 0;
     stats_.kinetics = {};

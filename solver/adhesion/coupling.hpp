@@ -40,6 +40,11 @@
 // wrapped into the box; the skip test measures box distances over the periodic images. What
 // is not done: a free receptor within the reactive distance of a periodic boundary does not
 // see the ligands just across it (a strip one reactive distance wide, 70 nm by default).
+//
+// Restart (save / restore): the state is every receptor's id, position and ligand; the
+// ligands' occupancy, the bond counts and the bounding boxes follow from them, and the
+// draws are keyed by (seed, receptor id, step), so with the step restored by the checkpoint
+// a restarted run continues bit for bit. Every rank holds the same state: nothing to gather.
 #pragma once
 
 #include "adhesion/bond.hpp"
@@ -47,6 +52,7 @@
 #include "adhesion/kinetics.hpp"
 #include "config/adhesion_config.hpp"
 #include "config/body_config.hpp"
+#include "core/state_record.hpp"
 
 #include <algorithm>
 #include <array>
@@ -155,6 +161,14 @@ class Coupling {
 
     /// Carries the receptors with `u` only (no kinetics): the advection part of advance.
     void carry(const VelocityField& u, real dt);
+
+    /// Writes the state a restart needs into `r`: arrays receptor_id, receptor_x (x y z per
+    /// receptor, in receptors() order) and receptor_ligand (no_ligand when free).
+    void save(StateRecord& r) const;
+    /// Takes back what save wrote, onto the receptors placed from the same case: InputError
+    /// naming the array when a count or a receptor id differs, a position is not finite, or
+    /// a ligand does not exist or is bound twice.
+    void restore(const StateRecord& r);
 
   private:
     void anchor(const std::array<std::array<bool, 2>, 3>& no_slip, const VelocityField* pinning,

@@ -194,25 +194,41 @@ AdhesionConfig read_adhesion(TableReader& top, const GlobalGrid& grid,
 
 std::string adhesion_fingerprint(const AdhesionConfig& a) {
     if (!a.enabled) return "";
+    // One line per key, so that a checkpoint refused for another case names the key.
     const adhesion::AdhesionParameters& p = a.parameters;
-    std::string out = fmt::format(
-        "adhesion = seed {} k_on {:.17g} k_off0 {:.17g} gamma {:.17g} sigma {:.17g} lambda "
-        "{:.17g} reach {:.17g} margin {:.17g} T {:.17g} law {} catch {:.17g} {:.17g} slip "
-        "{:.17g} {:.17g} max_step_displacement {:.17g}\n",
-        a.seed, p.k_on, p.k_off0, p.reactive_compliance, p.bond_stiffness, p.bond_rest_length,
-        p.reactive_distance, p.margin, p.temperature,
-        p.law == adhesion::DissociationLaw::bell ? "bell" : "catch_slip", p.catch_rate,
-        p.catch_distance, p.slip_rate, p.slip_distance, a.max_step_displacement);
+    std::string out;
+    auto line = [&](const std::string& key, const std::string& value) {
+        out += "adhesion." + key + " = " + value + "\n";
+    };
+    auto num = [](real x) { return fmt::format("{:.17g}", x); };
+    line("seed", std::to_string(a.seed));
+    line("k_on", num(p.k_on));
+    line("k_off0", num(p.k_off0));
+    line("reactive_compliance", num(p.reactive_compliance));
+    line("bond_stiffness", num(p.bond_stiffness));
+    line("bond_rest_length", num(p.bond_rest_length));
+    line("reactive_distance", num(p.reactive_distance));
+    line("margin", num(p.margin));
+    line("temperature", num(p.temperature));
+    line("law", p.law == adhesion::DissociationLaw::bell ? "bell" : "catch_slip");
+    line("catch_slip", fmt::format("catch_rate {:.17g} catch_distance {:.17g} slip_rate {:.17g} "
+                                   "slip_distance {:.17g}",
+                                   p.catch_rate, p.catch_distance, p.slip_rate, p.slip_distance));
+    line("max_step_displacement", num(a.max_step_displacement));
+    line("ligand_regions.count", std::to_string(a.ligand_regions.size()));
     for (std::size_t i = 0; i < a.ligand_regions.size(); ++i) {
         const adhesion::LigandRegion& r = a.ligand_regions[i];
-        out += fmt::format("adhesion.ligand_regions[{}] = lo [{:.17g}, {:.17g}, {:.17g}] hi "
-                           "[{:.17g}, {:.17g}, {:.17g}] density {:.17g}\n",
-                           i, r.lo[0], r.lo[1], r.lo[2], r.hi[0], r.hi[1], r.hi[2],
-                           a.ligand_density[i]);
+        line(fmt::format("ligand_regions[{}]", i),
+             fmt::format("lo [{:.17g}, {:.17g}, {:.17g}] hi [{:.17g}, {:.17g}, {:.17g}] density "
+                         "{:.17g}",
+                         r.lo[0], r.lo[1], r.lo[2], r.hi[0], r.hi[1], r.hi[2],
+                         a.ligand_density[i]));
     }
-    for (std::size_t i = 0; i < a.receptors.size(); ++i)
-        out += fmt::format("adhesion.receptors[{}] = body {} count {}\n", i, a.receptors[i].body,
-                           a.receptors[i].count);
+    line("receptors.count", std::to_string(a.receptors.size()));
+    for (std::size_t i = 0; i < a.receptors.size(); ++i) {
+        line(fmt::format("receptors[{}].body", i), a.receptors[i].body);
+        line(fmt::format("receptors[{}].count", i), std::to_string(a.receptors[i].count));
+    }
     return out;
 }
 

@@ -5,6 +5,7 @@
 
 #include <fmt/core.h>
 
+#include <algorithm>
 #include <cstring>
 #include <sstream>
 
@@ -106,20 +107,67 @@ std::string fingerprint_difference(const std::string& stored, const std::string&
     if (shown > 4) out += fmt::format("; and {} more", shown - 4);
     return out;
 }
+
+/// The root's groups that hold records (every group but /integrity).
+std::vector<std::string> stored_records(const Hdf5File& f) {
+    std::vector<std::string> out;
+    for (const std::string& g : f.members("", true))
+        if (g != "integrity") out.push_back(g);
+    return out;
+}
+
+/// Refuses a checkpoint that lacks one of `records`, or holds one the case has no use for.
+void check_records(const Hdf5File& f, const std::string& at,
+                   const std::vector<NamedRecord>& records) {
+    const std::vector<std::string> stored = stored_records(f);
+    for (const auto& [group, r] : records)
+        if (std::find(stored.begin(), stored.end(), group) == stored.end())
+            throw InputError(fmt::format(
+                "{}: the checkpoint holds no '{}' state ({}), which the case needs: it was "
+                "written by a run without it (or by an efsi that did not checkpoint it), and "
+                "cannot continue this case",
+                at, group, r->description));
+    for (const std::string& group : stored) {
+        if (std::any_of(records.begin(), records.end(),
+                        [&](const NamedRecord& r) { return r.first == group; }))
+            continue;
+        const std::string what = f.has_string_attribute("description", group)
+                                     ? f.read_string_attribute("description", group)
+                                     : std::string("no description");
+        throw InputError(fmt::format("{}: the checkpoint holds '{}' state ({}), which this case "
+                                     "does not have: it was written by a run with it, and a "
+                                     "restart would drop it",
+                                     at, group, what));
+    }
+}
 } // namespace
 
 void write_checkpoint(const fs::path& file, const Decomposition& dec, const FlowState& s,
                       const RunClock& clock, const std::vector<Body*>& bodies,
-                      const std::string& fingerprint) {
+                      const std::string& fingerprint, const std::vector<NamedRecord>& records) {
     const fs::path tmp = fs::path(file.string() + ".tmp");
     std::vector<std::pair<std::string, std::uint64_t>> sums;
     try {
         {
             const auto all = datasets(s, bodies);
-            Hdf5File f(tmp, Hdf5File::Mode::Create, dec,
-                       std::uint64_t(all.size()) * std::uint64_t(dec.grid().total_cells()) * 8);
+            std::uint64_t bytes =
+                std::uint64_t(all.size()) * std::uint64_t(dec.grid().total_cells()) * 8;
+            for (const auto& [group, r] : records) {
+                for (const auto& [name, v] : r->reals)
+                    bytes += 8 * v.size();
+                for (const auto& [name, v] : r->integers)
+                    bytes += 8 * v.size();
+            }
+            Hdf5File f(tmp, Hdf5File::Mode::Create, dec, bytes);
             for (const auto& [name, field] : all)
                 sums.emplace_back(name, f.write_block(name, *field));
+            for (const auto& [group, r] : records) {
+                for (const auto& [name, v] : r->reals)
+                    sums.emplace_back(group + "/" + name, f.write_array(group + "/" + name, v));
+                for (const auto& [name, v] : r->integers)
+                    sums.emplace_back(group + "/" + name, f.write_array(group + "/" + name, v));
+                f.write_string_attribute("description", r->description, group);
+            }
             std::vector<std::pair<std::string, double>> attrs = {
                 {"time", s.time},
                 {"step", double(s.step)},
@@ -154,6 +202,21 @@ void write_checkpoint(const fs::path& file, const Decomposition& dec, const Flow
                                               "was written",
                                               tmp.string(), all[q].first));
             }
+            for (std::size_t q = all.size(); q < sums.size(); ++q) {
+                const std::string& name = sums[q].first;
+                std::uint64_t back = 0;
+                if (f.is_integer(name)) {
+                    const std::vector<std::uint64_t> v = f.read_integer_array(name);
+                    back = Hdf5File::array_checksum(v.data(), v.size());
+                } else {
+                    const std::vector<double> v = f.read_real_array(name);
+                    back = Hdf5File::array_checksum(v.data(), v.size());
+                }
+                if (back != sums[q].second)
+                    throw IoError(fmt::format("{}: dataset '{}' read back differs from what "
+                                              "was written",
+                                              tmp.string(), name));
+            }
             f.close();
         }
     } catch (const std::exception& e) {
@@ -185,7 +248,8 @@ void write_checkpoint(const fs::path& file, const Decomposition& dec, const Flow
 }
 
 void read_checkpoint(const fs::path& file, const Decomposition& dec, FlowState& s, RunClock& clock,
-                     const std::vector<Body*>& bodies, const std::string& fingerprint) {
+                     const std::vector<Body*>& bodies, const std::string& fingerprint,
+                     const std::vector<NamedRecord>& records) {
     const std::string at = "--restart " + file.string();
     if (!fs::exists(file)) throw InputError(at + ": no such checkpoint file");
     try {
@@ -196,6 +260,7 @@ void read_checkpoint(const fs::path& file, const Decomposition& dec, FlowState& 
         if (f.read_attribute("format") != format_version)
             throw InputError(fmt::format("{}: checkpoint format {} is not {}", at,
                                          f.read_attribute("format"), format_version));
+        check_records(f, at, records);
         const std::string stored = f.read_string_attribute("case_fingerprint", "integrity");
         if (!fingerprint.empty() && stored != fingerprint)
             throw InputError(fmt::format("{}: the checkpoint was written for another case ({})", at,
@@ -230,6 +295,17 @@ void read_checkpoint(const fs::path& file, const Decomposition& dec, FlowState& 
         }
         for (const auto& [name, field] : datasets(s, bodies))
             f.read_block(name, *field, true);
+        for (const auto& [group, r] : records) {
+            r->reals.clear();
+            r->integers.clear();
+            for (const std::string& name : f.members(group, false)) {
+                const std::string path = group + "/" + name;
+                if (f.is_integer(path))
+                    r->integers[name] = f.read_integer_array(path);
+                else
+                    r->reals[name] = f.read_real_array(path);
+            }
+        }
         s.time = attrs[0].second;
         s.step = long(attrs[1].second);
         s.dt_prev = attrs[2].second;

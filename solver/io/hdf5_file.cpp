@@ -351,6 +351,148 @@ void Hdf5File::read_block(const std::string& name, Field& f, bool require_checks
     for_each_in(f.owned(), [&](int i, int j, int k) { f(i, j, k) = buf[c++]; });
 }
 
+std::uint64_t Hdf5File::array_checksum(const void* values, std::size_t n) {
+    std::uint64_t sum = mix64(n);
+    const auto* b = static_cast<const unsigned char*>(values);
+    for (std::size_t i = 0; i < n; ++i) {
+        std::uint64_t bits = 0;
+        std::memcpy(&bits, b + 8 * i, sizeof bits);
+        sum += mix64(mix64(i) ^ bits);
+    }
+    return sum;
+}
+
+std::uint64_t Hdf5File::write_array_any(const std::string& name, std::size_t n, const void* values,
+                                        hid_t type) {
+    const hsize_t dims = n;
+    hid_t fspace = H5Screate_simple(1, &dims, nullptr);
+    hid_t lcpl = H5Pcreate(H5P_LINK_CREATE);
+    H5Pset_create_intermediate_group(lcpl, 1);
+    errno = 0;
+    hid_t dset = H5Dcreate2(file_, name.c_str(), type, fspace, lcpl, H5P_DEFAULT, H5P_DEFAULT);
+    H5Pclose(lcpl);
+    try {
+        agree(dset >= 0, fmt::format("creating dataset '{}'", name));
+    } catch (...) {
+        if (dset >= 0) H5Dclose(dset);
+        H5Sclose(fspace);
+        throw;
+    }
+    // Every rank holds the same values: rank 0 writes them all, the others nothing (the
+    // transfer is collective).
+    const bool writer = dec_.rank() == 0 && n > 0;
+    if (!writer) H5Sselect_none(fspace);
+    const hsize_t local = writer ? n : 0;
+    hid_t mspace = H5Screate_simple(1, &local, nullptr);
+    errno = 0;
+    const herr_t w = n > 0 ? H5Dwrite(dset, type, mspace, fspace, xfer_, values) : 0;
+    int e = errno;
+    H5Sclose(mspace);
+    H5Sclose(fspace);
+    const std::uint64_t sum = array_checksum(values, n);
+    hid_t space = H5Screate(H5S_SCALAR);
+    hid_t attr = H5Acreate2(dset, "checksum", H5T_NATIVE_UINT64, space, H5P_DEFAULT, H5P_DEFAULT);
+    const herr_t wa = attr >= 0 ? H5Awrite(attr, H5T_NATIVE_UINT64, &sum) : -1;
+    if (attr >= 0) H5Aclose(attr);
+    H5Sclose(space);
+    if (e == 0) e = errno;
+    const herr_t cl = H5Dclose(dset);
+    errno = e;
+    agree(w >= 0 && wa >= 0 && cl >= 0, fmt::format("writing dataset '{}'", name));
+    return sum;
+}
+
+std::uint64_t Hdf5File::write_array(const std::string& name, const std::vector<double>& values) {
+    return write_array_any(name, values.size(), values.data(), H5T_NATIVE_DOUBLE);
+}
+
+std::uint64_t Hdf5File::write_array(const std::string& name,
+                                    const std::vector<std::uint64_t>& values) {
+    return write_array_any(name, values.size(), values.data(), H5T_NATIVE_UINT64);
+}
+
+std::vector<std::uint64_t> Hdf5File::read_array_any(const std::string& name, hid_t type) const {
+    const bool integer = type != H5T_NATIVE_DOUBLE;
+    if (!has(name)) throw InputError(fmt::format("{}: has no dataset '{}'", path_.string(), name));
+    hid_t dset = H5Dopen2(file_, name.c_str(), H5P_DEFAULT);
+    hid_t space = dset >= 0 ? H5Dget_space(dset) : -1;
+    hid_t stored = dset >= 0 ? H5Dget_type(dset) : -1;
+    hsize_t n = 0;
+    const bool shape_ok = space >= 0 && H5Sget_simple_extent_ndims(space) == 1 &&
+                          H5Sget_simple_extent_dims(space, &n, nullptr) == 1;
+    const bool type_ok = stored >= 0 && H5Tget_size(stored) == 8 &&
+                         H5Tget_class(stored) == (integer ? H5T_INTEGER : H5T_FLOAT);
+    if (stored >= 0) H5Tclose(stored);
+    if (space >= 0) H5Sclose(space);
+    std::vector<std::uint64_t> words(shape_ok && type_ok ? std::size_t(n) : 0);
+    const herr_t r = shape_ok && type_ok && n > 0
+                         ? H5Dread(dset, type, H5S_ALL, H5S_ALL, xfer_, words.data())
+                         : 0;
+    if (dset >= 0) H5Dclose(dset);
+    if (!shape_ok || !type_ok)
+        throw InputError(fmt::format("{}: dataset '{}' is not a 1D array of 8-byte {}",
+                                     path_.string(), name, integer ? "integers" : "reals"));
+    agree(r >= 0, fmt::format("reading dataset '{}'", name));
+    const std::uint64_t want = stored_checksum(name);
+    if (want == 0)
+        throw InputError(fmt::format("{}: dataset '{}' has no checksum", path_.string(), name));
+    const std::uint64_t sum = array_checksum(words.data(), words.size());
+    if (sum != want)
+        throw InputError(fmt::format("{}: dataset '{}' does not match its checksum (stored "
+                                     "{:016x}, data {:016x}): the file is corrupted",
+                                     path_.string(), name, want, sum));
+    return words;
+}
+
+std::vector<double> Hdf5File::read_real_array(const std::string& name) const {
+    const std::vector<std::uint64_t> words = read_array_any(name, H5T_NATIVE_DOUBLE);
+    std::vector<double> out(words.size());
+    if (!words.empty()) std::memcpy(out.data(), words.data(), 8 * words.size());
+    return out;
+}
+
+std::vector<std::uint64_t> Hdf5File::read_integer_array(const std::string& name) const {
+    return read_array_any(name, H5T_NATIVE_UINT64);
+}
+
+std::vector<std::string> Hdf5File::members(const std::string& group, bool groups) const {
+    std::vector<std::string> out;
+    const std::string where = group.empty() ? "/" : group;
+    if (H5Lexists(file_, where.c_str(), H5P_DEFAULT) <= 0 && where != "/") return out;
+    hid_t g = H5Gopen2(file_, where.c_str(), H5P_DEFAULT);
+    if (g < 0) return out;
+    H5G_info_t info;
+    if (H5Gget_info(g, &info) >= 0)
+        for (hsize_t i = 0; i < info.nlinks; ++i) {
+            const ssize_t len =
+                H5Lget_name_by_idx(g, ".", H5_INDEX_NAME, H5_ITER_INC, i, nullptr, 0, H5P_DEFAULT);
+            if (len < 0) continue;
+            std::string name(std::size_t(len) + 1, '\0');
+            H5Lget_name_by_idx(g, ".", H5_INDEX_NAME, H5_ITER_INC, i, name.data(), name.size(),
+                               H5P_DEFAULT);
+            name.resize(std::size_t(len));
+            hid_t o = H5Oopen(g, name.c_str(), H5P_DEFAULT);
+            if (o < 0) continue;
+            const H5I_type_t t = H5Iget_type(o);
+            H5Oclose(o);
+            if ((groups && t == H5I_GROUP) || (!groups && t == H5I_DATASET)) out.push_back(name);
+        }
+    H5Gclose(g);
+    std::sort(out.begin(), out.end());
+    return out;
+}
+
+bool Hdf5File::is_integer(const std::string& name) const {
+    if (!has(name)) return false;
+    hid_t dset = H5Dopen2(file_, name.c_str(), H5P_DEFAULT);
+    if (dset < 0) return false;
+    hid_t type = H5Dget_type(dset);
+    const bool integer = type >= 0 && H5Tget_class(type) == H5T_INTEGER;
+    if (type >= 0) H5Tclose(type);
+    H5Dclose(dset);
+    return integer;
+}
+
 bool Hdf5File::has(const std::string& name) const {
     return H5Lexists(file_, name.c_str(), H5P_DEFAULT) > 0;
 }

@@ -58,6 +58,24 @@ class Hdf5File {
     std::uint64_t stored_checksum(const std::string& name) const;
     bool has(const std::string& name) const;
 
+    /// A 1D dataset `name` ("group/array": the group is created when absent) of values that
+    /// every rank holds alike: rank 0 writes them. Stores array_checksum of the values as
+    /// the dataset's attribute "checksum" and returns it.
+    std::uint64_t write_array(const std::string& name, const std::vector<double>& values);
+    std::uint64_t write_array(const std::string& name, const std::vector<std::uint64_t>& values);
+    /// Every rank reads the whole 1D dataset `name`, which must match its checksum
+    /// (InputError naming the dataset otherwise, or when it is not a 1D array of that type).
+    std::vector<double> read_real_array(const std::string& name) const;
+    std::vector<std::uint64_t> read_integer_array(const std::string& name) const;
+    /// Checksum of an array of n 8-byte values: a 64-bit mix of (index, value bits) summed
+    /// over the values, and of n. The same on every rank.
+    static std::uint64_t array_checksum(const void* values, std::size_t n);
+    /// The names directly under group `group` ("" for the root), sorted: its groups when
+    /// `groups`, else its datasets.
+    std::vector<std::string> members(const std::string& group, bool groups) const;
+    /// Is dataset `name` of an integer type?
+    bool is_integer(const std::string& name) const;
+
     void write_attribute(const std::string& name, double value);
     double read_attribute(const std::string& name) const;
     /// String attributes on the root, or on group `group` (created when absent).
@@ -85,6 +103,10 @@ class Hdf5File {
   private:
     void write_flat_any(const std::string& name, const Int3& global_points, const Int3& offset,
                         const Int3& count, int ncomp, const void* values, hid_t type);
+    std::uint64_t write_array_any(const std::string& name, std::size_t n, const void* values,
+                                  hid_t type);
+    /// The values of 1D dataset `name` as 8-byte words, read as `type` (checked: InputError).
+    std::vector<std::uint64_t> read_array_any(const std::string& name, hid_t type) const;
     /// All ranks agree on the outcome of `what`: throws IoError everywhere if it failed
     /// anywhere (with the errno of a failing rank when it is known).
     void agree(bool ok, const std::string& what) const;

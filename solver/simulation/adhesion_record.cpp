@@ -83,4 +83,30 @@ nlohmann::json AdhesionRecord::summary(const adhesion::Coupling& c) const {
         {"bodies", per_body}};
 }
 
+void AdhesionRecord::save(StateRecord& r) const {
+    r.integers["record_counts"] = {formed_, broken_, total_formed_, total_broken_, max_bonds_};
+    std::vector<double>& v = r.reals["record_reals"];
+    v = {first_bond_time_, smallest_limit_, max_tension_};
+    for (const Real3* i : {&impulse_bodies_, &impulse_walls_, &impulse_held_})
+        v.insert(v.end(), i->begin(), i->end());
+}
+
+void AdhesionRecord::restore(const StateRecord& r) {
+    const std::vector<std::uint64_t>& n = r.integer_array("record_counts", 5);
+    const std::vector<double>& v = r.real_array("record_reals", 12);
+    formed_ = n[0];
+    broken_ = n[1];
+    total_formed_ = n[2];
+    total_broken_ = n[3];
+    max_bonds_ = n[4];
+    first_bond_time_ = v[0];
+    smallest_limit_ = v[1];
+    max_tension_ = v[2];
+    for (int a = 0; a < 3; ++a) {
+        impulse_bodies_[a] = v[3 + a];
+        impulse_walls_[a] = v[6 + a];
+        impulse_held_[a] = v[9 + a];
+    }
+}
+
 } // namespace efsi

@@ -29,10 +29,15 @@ class AdhesionRecord {
     bool append_row(const std::filesystem::path& file, const adhesion::Coupling& c, long step,
                     real time, bool write);
     nlohmann::json summary(const adhesion::Coupling& c) const;
+    /// The counts, extremes and impulses into `r` (arrays record_counts, record_reals), so
+    /// that a restarted run's rows and totals continue the checkpointed run's.
+    void save(StateRecord& r) const;
+    /// Takes back what save wrote (InputError naming the array when it does not fit).
+    void restore(const StateRecord& r);
 
   private:
     std::size_t formed_ = 0, broken_ = 0;             ///< since the last row
-    std::size_t total_formed_ = 0, total_broken_ = 0; ///< over this run
+    std::size_t total_formed_ = 0, total_broken_ = 0; ///< over the run (restarts included)
     std::size_t max_bonds_ = 0;
     real first_bond_time_ = -1; ///< end of the step that formed the first bond [s]
     real smallest_limit_ = std::numeric_limits<real>::infinity(); ///< [s]

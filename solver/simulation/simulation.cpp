@@ -68,15 +68,6 @@ std::string membrane_instability_hint(const Config& cfg) {
 
 Simulation::Simulation(const Config& config, const RunOptions& options, MPI_Comm world)
     : cfg_(config), opt_(options) {
-    // The receptors' positions and bonds are not in the checkpoint: a restart would place
-    // the receptors afresh on the initial shapes and drop every bond. Refused before
-    // anything is allocated or written.
-    if (!opt_.restart_file.empty() && cfg_.adhesion.enabled)
-        throw InputError(fmt::format(
-            "--restart {}: the case has an [adhesion] table, whose receptors and bonds are not "
-            "checkpointed; a restart would lose every bond. Run it from the start (or remove "
-            "[adhesion] to continue the flow and bodies alone)",
-            opt_.restart_file.string()));
     // The decomposition checks the rank count against the grid before anything is allocated.
     dec_ = std::make_unique<Decomposition>(world, cfg_.grid, periodic_directions(cfg_.boundaries),
                                            cfg_.ranks);
@@ -85,9 +76,25 @@ Simulation::Simulation(const Config& config, const RunOptions& options, MPI_Comm
     set_initial_condition(cfg_, *dec_, *state_);
     // Bodies exist only when the case has some: no body, no body fields, no body work.
     if (!cfg_.bodies.empty()) bodies_ = std::make_unique<BodySystem>(cfg_, *dec_, *halos_);
+    // Adhesion (docs/method.md, "Coupling to the flow"): only with an [adhesion] table, whose
+    // receptors sit on bodies, so bodies_ exists then. Made before a restart reads its
+    // receptors and bonds back.
+    if (cfg_.adhesion.enabled)
+        adhesion_ = std::make_unique<adhesion::Coupling>(cfg_.adhesion, cfg_.bodies, *dec_,
+                                                         cfg_.fluid.density, cfg_.fluid.viscosity);
     if (!opt_.restart_file.empty()) {
+        StateRecord adhesion_state;
         read_checkpoint(opt_.restart_file, *dec_, *state_, clock_, body_list(),
-                        case_fingerprint(cfg_));
+                        case_fingerprint(cfg_), checkpoint_records(adhesion_state, false));
+        if (adhesion_) {
+            try {
+                adhesion_->restore(adhesion_state);
+                adhesion_record_.restore(adhesion_state);
+            } catch (const InputError& e) {
+                throw InputError(fmt::format("--restart {}: group 'adhesion': {}",
+                                             opt_.restart_file.string(), e.what()));
+            }
+        }
         // Nothing is left to do: refuse before anything is written (a summary of an empty
         // run would replace the real one).
         if (!(state_->time < cfg_.time.end_time * (1 - 1e-12)))
@@ -125,11 +132,6 @@ Simulation::Simulation(const Config& config, const RunOptions& options, MPI_Comm
         if (bodies_->viscosity_varies()) state_->viscosity_varies = true;
         u_mid_ = std::make_unique<VelocityField>("body_velocity", dec_->block(), dec_->dim());
     }
-    // Adhesion (docs/method.md, "Coupling to the flow"): only with an [adhesion] table, whose
-    // receptors sit on bodies, so bodies_ exists then.
-    if (cfg_.adhesion.enabled)
-        adhesion_ = std::make_unique<adhesion::Coupling>(cfg_.adhesion, cfg_.bodies, *dec_,
-                                                         cfg_.fluid.density, cfg_.fluid.viscosity);
     if (bodies_ && (bodies_->adds_force() || adhesion_))
         force_ = std::make_unique<VelocityField>("body_force", dec_->block(), dec_->dim());
     halos_->fill(state_->p);
@@ -153,7 +155,7 @@ Simulation::Simulation(const Config& config, const RunOptions& options, MPI_Comm
         // Fresh files on a new run; a restart appends (after dropping the rows past the
         // checkpoint's time), but starts the files if absent.
         if (!opt_.restart_file.empty())
-            for (const char* name : {"diagnostics.csv", "bodies.csv"})
+            for (const char* name : {"diagnostics.csv", "bodies.csv", "adhesion.csv"})
                 drop_rows_after(opt_.output_dir / name, state_->time);
         if (opt_.restart_file.empty() || !fs::exists(opt_.output_dir / "diagnostics.csv")) {
             std::ofstream(opt_.output_dir / "diagnostics.csv") << Diagnostics::csv_header() << "\n";
@@ -241,6 +243,17 @@ void Simulation::build_pinning() {
             (*pinning_)[c](p) = 0.5 * (chi(p - unit(c)) + chi(p));
         });
     stepper_->set_pinning(pinning_.get());
+}
+
+std::vector<NamedRecord> Simulation::checkpoint_records(StateRecord& adhesion_state,
+                                                        bool save) const {
+    if (!adhesion_) return {};
+    adhesion_state.description = "the receptors, bonds and counters of [adhesion]";
+    if (save) {
+        adhesion_->save(adhesion_state);
+        adhesion_record_.save(adhesion_state);
+    }
+    return {{"adhesion", &adhesion_state}};
 }
 
 std::vector<Body*> Simulation::body_list() const {
@@ -365,8 +378,9 @@ void Simulation::write_outputs_if_due(bool final_step) {
     const int every = cfg_.output.checkpoint_every;
     if (final_step || (every > 0 && s.step % every == 0 && s.step > 0))
         timers_.time("checkpoint", [&] {
+            StateRecord adhesion_state;
             write_checkpoint(opt_.output_dir / "checkpoint.h5", *dec_, s, clock_, body_list(),
-                             case_fingerprint(cfg_));
+                             case_fingerprint(cfg_), checkpoint_records(adhesion_state, true));
         });
 }
 

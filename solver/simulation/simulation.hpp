@@ -69,6 +69,10 @@ class Simulation {
     void log(const std::string& line) const;
     double wall_seconds() const; ///< since log_start()
     std::vector<Body*> body_list() const;
+    /// The checkpoint's records of state that is not a field: the adhesion's receptors,
+    /// bonds and counters in `adhesion_state` (saved into it when `save`), none without
+    /// [adhesion].
+    std::vector<NamedRecord> checkpoint_records(StateRecord& adhesion_state, bool save) const;
     /// K = sum over fixed walls of phi_k / pin_tau_over_dt_k on the faces (or null).
     void build_pinning();
 

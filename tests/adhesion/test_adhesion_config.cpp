@@ -122,7 +122,9 @@ TEST(AdhesionConfig, ReadsTheTableAndLeavesItOffWithoutIt) {
     ASSERT_EQ(a.receptors.size(), 1u);
     EXPECT_EQ(a.receptors[0].body_index, 0u);
     EXPECT_EQ(a.receptors[0].count, 500u);
-    EXPECT_THAT(case_fingerprint(c), HasSubstr("adhesion.receptors[0] = body platelet count 500"));
+    // One fingerprint line per key, so that a refused checkpoint names the key.
+    EXPECT_THAT(case_fingerprint(c), HasSubstr("adhesion.receptors[0].count = 500\n"));
+    EXPECT_THAT(case_fingerprint(c), HasSubstr("adhesion.seed = 5\n"));
 
     // A density gives density x area receptors (the oblate spheroid's area).
     const Config d = case_from(scene + adhesion_table, {{"adhesion.receptors[0].count", "0"},
