@@ -25,12 +25,12 @@ constexpr double FLOW_BYTES_PER_CELL = 189;
 //   bodies' patch cells: the blood_capillary study's three runs at 64 x 32 x 32
 //   (verification/results/blood_capillary: rate_*).
 constexpr double PROCESS_BYTES = 1.01e+08;
-constexpr double FLOW_SECONDS_HYPRE = 1.28e-06;
+constexpr double FLOW_SECONDS_HYPRE = 1.31e-06;
 constexpr double HELD_BYTES = 11; // phi alone: 8 B per cell plus the patch's halo
-constexpr double SOLID_BYTES = 516;
-constexpr double SOLID_SECONDS = 9e-07;
+constexpr double SOLID_BYTES = 459;
+constexpr double SOLID_SECONDS = 6.22e-07;
 constexpr double MEMBRANE_BYTES = 744;
-constexpr double MEMBRANE_SECONDS = 9.48e-07;
+constexpr double MEMBRANE_SECONDS = 7.88e-07;
 
 } // namespace
 

@@ -40,9 +40,25 @@ Metrics (result.json):
   that `efsi check` estimates a run's memory and cost with (estimate_rates below;
   solver/simulation/run_estimate.cpp holds them, docs/performance.md shows them).
 
+A fourth run, `rbc_in_tube` (one red cell in a 10 um tube, 24 um periodic: a file of cells
+24 um apart; issue 20 section 3), measures the single cell:
+- `rbc_in_tube_velocity_ratio`: the cell's velocity (its centroid's, least squares over the
+  last quarter of the run) over the mean velocity of the suspension (flow rate / lumen area,
+  the snapshots of the last quarter); next to it `rbc_in_tube_velocity_ratio_pries1992`,
+  H_D / H_T from the Fahraeus fit above at D = 10 um for the tube haematocrit of the run
+  (cell volume / lumen volume: in steady flow the cells' flux H_D Q equals H_T A v_cell, so
+  v_cell / v_mean = H_D / H_T), and their difference (reported; no bound: the fit is for
+  suspensions in glass tubes, this is a periodic file of single cells);
+- `rbc_in_tube_length_um`, `rbc_in_tube_diameter_um`: the cell's extent along the axis and
+  twice its largest distance from the axis where its phi >= 1/2 (last snapshot);
+- `rbc_in_tube_reference_area_drift_max` (bound 5 %, as for the capillary's cells),
+  `rbc_in_tube_max_trace_Gs`, `rbc_in_tube_area_change_max` (|A / A(0) - 1|),
+  `rbc_in_tube_volume_drift`, `t_end_ms_tube`, `reached_end_tube`.
+
 Tiers: ci 3 steps of each run at Ht 3 % with a gap of one cell (the machinery, overlap and
 volume only; a flow 3 steps old has no flow rate worth comparing); quick to 0.5 ms and full
-to 3 ms at the case's Ht 20 %, on EFSI_VERIFY_RANKS ranks.
+to 3 ms at the case's Ht 20 %, on EFSI_VERIFY_RANKS ranks; the tube to 2 ms (quick) and
+10 ms (full).
 """
 import csv
 import glob
@@ -58,9 +74,9 @@ from _flowio import cached_run
 
 DESCRIPTION = "blood in a capillary: Ht, apparent viscosity, cell-free layer, platelets, overlap"
 
-TIERS = {"ci": {"steps": 3, "t_end": None, "fields": 0},
-         "quick": {"steps": None, "t_end": 0.5, "fields": 0.125},
-         "full": {"steps": None, "t_end": 3.0, "fields": 0.25}}
+TIERS = {"ci": {"steps": 3, "t_end": None, "fields": 0, "tube_end": None},
+         "quick": {"steps": None, "t_end": 0.5, "fields": 0.125, "tube_end": 2.0},
+         "full": {"steps": None, "t_end": 3.0, "fields": 0.25, "tube_end": 10.0}}
 _QF = ("quick", "full")
 BOUNDS = [
     Bound(r"max_body_overlap", "<=", 1e-3,
@@ -69,6 +85,9 @@ BOUNDS = [
     Bound(r"rbc_reference_area_drift_max", "<=", 0.05,
           "the red cells' stored strain stays consistent with their surface (its area within "
           "5 % of the measured one)", tiers=_QF),
+    Bound(r"rbc_in_tube_reference_area_drift_max", "<=", 0.05,
+          "the single red cell's stored strain stays consistent with its surface", tiers=_QF),
+    Bound(r"rbc_in_tube_volume_drift", "<=", 1e-9, "the single red cell keeps its volume"),
     Bound(r"achieved_ht", ">=", 0.19, "the seeding reaches the paper's Ht of about 20 %",
           tiers=_QF),
     Bound(r"reached_end_.*", "==", 1, "every run reaches its end time (no UNSTABLE stop)",
@@ -79,6 +98,7 @@ BOUNDS = [
 
 R_LUMEN, AXIS_Y, AXIS_Z = 10.0, 11.0, 11.0  # um (cases/capillary_coarse)
 DIAMETER = 2 * R_LUMEN
+TUBE_R, TUBE_AXIS, TUBE_LENGTH = 5.0, 6.0, 24.0  # um (cases/rbc_in_tube)
 
 
 def pries_1992(tube_ht: float, d: float = DIAMETER) -> tuple[float, float]:
@@ -230,6 +250,113 @@ def reference_area_drift(per: dict) -> float:
     return worst
 
 
+def tube_shape(path, h) -> tuple[float, float]:
+    """The single red cell's length along the axis and its diameter (twice the largest
+    distance from the axis) where its phi >= 1/2; the cell may straddle the periodic end."""
+    with h5py.File(path, "r") as f:
+        shape = f["faces_u"].shape  # [z][y][x]
+        phi = f["phi_rbc"][...].reshape(shape)
+    inside = phi >= 0.5
+    cols = inside.any(axis=(0, 1))
+    if not cols.any():
+        return float("nan"), float("nan")
+    # Roll an empty column to the front so the cell's columns are contiguous.
+    empty = np.flatnonzero(~cols)
+    cols = np.roll(cols, -int(empty[0])) if len(empty) else cols
+    idx = np.flatnonzero(cols)
+    length = (idx[-1] - idx[0] + 1) * h
+    nz, ny, _ = shape
+    zz, yy = np.meshgrid((np.arange(nz) + 0.5) * h, (np.arange(ny) + 0.5) * h, indexing="ij")
+    r = np.hypot(yy - TUBE_AXIS, zz - TUBE_AXIS)
+    return float(length), float(2 * r[inside.any(axis=2)].max())
+
+
+def tube_metrics(out: Path, summary: dict, h: float) -> tuple[dict, dict]:
+    """Metrics of the single red cell in the 10 um tube (docstring above), and the series
+    the plot shows."""
+    rows = bodies(out)["rbc"]
+    t = np.array([float(r["time"]) for r in rows])
+    o = np.argsort(t, kind="stable")
+    t = t[o]
+    col = {k: np.array([float(r[k]) for r in rows])[o]
+           for k in ("centroid_x", "volume", "area", "reference_area", "tensor_trace_max")}
+    x = np.unwrap(col["centroid_x"], period=TUBE_LENGTH)
+    t_end = float(summary["time"])
+    m = {"t_end_ms_tube": t_end, "reached_end_tube": int(summary["status"] == "completed"),
+         "rbc_in_tube_volume_drift": abs(col["volume"][-1] / col["volume"][0] - 1),
+         "rbc_in_tube_area_change_max": float(np.max(np.abs(col["area"] / col["area"][0] - 1))),
+         "rbc_in_tube_max_trace_Gs": float(col["tensor_trace_max"].max())}
+    ok = (col["area"] > 0) & (col["reference_area"] > 0)
+    m["rbc_in_tube_reference_area_drift_max"] = float(
+        np.max(np.abs(col["reference_area"][ok] / col["area"][ok] - 1)))
+    series = {"t": t, "x": x, "drift": col["reference_area"] / col["area"] - 1,
+              "area": col["area"] / col["area"][0] - 1}
+    snaps = snapshots(out)
+    late = [p for p in snaps if snapshot_time(p) >= 0.75 * t_end - 1e-9]
+    last = t >= 0.75 * t_end
+    if late and last.sum() >= 2 and t_end > 0:
+        v_cell = float(np.polyfit(t[last], x[last], 1)[0])
+        v_mean = float(np.mean([flow_rate(p, h) for p in late])) / (math.pi * TUBE_R ** 2)
+        tube_ht = col["volume"][0] / (math.pi * TUBE_R ** 2 * TUBE_LENGTH)
+        _, hd = pries_1992(tube_ht, 2 * TUBE_R)
+        m["rbc_in_tube_tube_haematocrit"] = float(tube_ht)
+        m["rbc_in_tube_cell_velocity_um_per_ms"] = v_cell
+        m["rbc_in_tube_mean_velocity_um_per_ms"] = v_mean
+        m["rbc_in_tube_velocity_ratio"] = v_cell / v_mean
+        m["rbc_in_tube_velocity_ratio_pries1992"] = hd / tube_ht
+        m["rbc_in_tube_velocity_ratio_minus_pries1992"] = v_cell / v_mean - hd / tube_ht
+        length, diameter = tube_shape(snaps[-1], h)
+        m["rbc_in_tube_length_um"], m["rbc_in_tube_diameter_um"] = length, diameter
+        series["first"], series["last"] = snaps[0], snaps[-1]
+    return m, series
+
+
+def plot_tube(ctx, series, h) -> list[str]:
+    import matplotlib
+    matplotlib.use("Agg")
+    import matplotlib.pyplot as plt
+
+    fig, ax = plt.subplots(1, 3, figsize=(14, 3.8))
+    t, x = series["t"], series["x"]
+    v = np.gradient(x, t) if len(t) > 2 else np.zeros_like(t)
+    ax[0].plot(t, v)
+    ax[0].set_xlabel("t [ms]")
+    ax[0].set_ylabel("cell velocity [um/ms]")
+    ax[0].set_title("red cell in a 10 um tube: velocity")
+    ax[1].plot(t, 100 * series["drift"], label="A_ref / A - 1 (bound: 5 %)")
+    ax[1].plot(t, 100 * series["area"], label="A / A(0) - 1")
+    ax[1].axhline(5, color="k", lw=0.8, ls="--")
+    ax[1].axhline(-5, color="k", lw=0.8, ls="--")
+    ax[1].set_xlabel("t [ms]")
+    ax[1].set_ylabel("[%]")
+    ax[1].set_title("area, and the stored strain against it")
+    ax[1].legend(fontsize=7)
+    for key, style in (("first", "C0"), ("last", "C3")):
+        if key in series:
+            with h5py.File(series[key], "r") as f:
+                shape = f["faces_u"].shape
+                phi = f["phi_rbc"][...].reshape(shape)
+                tt = float(f.attrs.get("time", np.nan))
+            k = int(TUBE_AXIS / h)  # the cell row just above the axis: the y-x section
+            sec = phi[k]
+            ext = [0, shape[2] * h, 0, shape[1] * h]
+            ax[2].contour(sec, levels=[0.5], colors=style, extent=ext)
+            ax[2].plot([], [], color=style, label=f"t = {tt:.1f} ms")
+    if "first" in series:
+        ax[2].legend(fontsize=7)
+    ax[2].axhline(TUBE_AXIS - TUBE_R, color="k", lw=0.8)
+    ax[2].axhline(TUBE_AXIS + TUBE_R, color="k", lw=0.8)
+    ax[2].set_aspect("equal")
+    ax[2].set_xlabel("x [um]")
+    ax[2].set_ylabel("y [um]")
+    ax[2].set_title("phi = 1/2 in the plane z ~ axis")
+    fig.tight_layout()
+    png = ctx.outdir / "rbc_in_tube.png"
+    fig.savefig(png, dpi=110)
+    plt.close(fig)
+    return [str(png)]
+
+
 FLOW_STAGES = ("advection", "predictor", "viscous_solve", "pressure_solve", "correction", "halo")
 
 
@@ -299,8 +426,11 @@ def run(ctx):
             "platelets": ctx.repo / "cases" / "capillary_no_rbc",
             "plasma": plasma_case(ctx)}
     out, summary = {}, {}
+    # One folder per tier: the ci tier's few steps must not overwrite the full tier's runs,
+    # which are kept and measured again rather than rerun.
+    run_dir = ctx.outdir / "runs" / ctx.tier
     for key, case in runs.items():
-        out[key] = ctx.outdir / "runs" / key
+        out[key] = run_dir / key
         extra = cell_sets if key == "cells" else {}
         # A finished run is measured again, not rerun (the full tier's takes most of an hour).
         if tier["t_end"] is None:  # ci: a few steps (status max_steps), always rerun
@@ -310,6 +440,16 @@ def run(ctx):
             cached_run(ctx, case, out[key], {**sets, **extra}, tier["t_end"],
                        ranks=ctx.long_ranks, allow_unstable=True)
         summary[key] = json.loads((out[key] / "summary.json").read_text())
+    tube_out = run_dir / "tube"
+    tube_case = ctx.repo / "cases" / "rbc_in_tube"
+    if tier["tube_end"] is None:
+        ctx.run_efsi(tube_case, tube_out, sets=sets, ranks=ctx.long_ranks)
+    else:
+        cached_run(ctx, tube_case, tube_out,
+                   {**sets, "time.end_time": repr(tier["tube_end"]),
+                    "output.fields_interval": "0.5"},
+                   tier["tube_end"], ranks=ctx.long_ranks, allow_unstable=True)
+    tube_summary = json.loads((tube_out / "summary.json").read_text())
     h = 44.0 / 64
     t_end = float(summary["cells"]["time"])
     half = 0.5 * t_end
@@ -347,9 +487,19 @@ def run(ctx):
              "flow rate [um^3/ms]": round(q[k], 2),
              "bodies": len(summary[k].get("bodies", []))} for k in runs]
     metrics.update(estimate_rates(summary))
+    h_tube = TUBE_LENGTH / int(tube_summary["grid"][0])
+    tube, tube_series = tube_metrics(tube_out, tube_summary, h_tube)
+    if tier["tube_end"] is None:  # ci: the machinery only
+        tube = {k: v for k, v in tube.items() if k.startswith("rbc_in_tube_volume")}
+    metrics.update(tube)
+    rows.append({"run": "tube", "t_end [ms]": float(tube_summary["time"]),
+                 "status": tube_summary["status"], "steps": tube_summary["steps"],
+                 "ranks": tube_summary["ranks"],
+                 "wall [s]": round(float(tube_summary["wall_seconds"]), 1),
+                 "load before": tube_summary.get("load_before"), "bodies": 2})
     # Statistics a run too short to have (the ci tier's 3 steps) are left out, not NaN.
     metrics = {k: v for k, v in metrics.items() if np.isfinite(v)}
-    figures = plot(ctx, radii, late, h, q)
+    figures = plot(ctx, radii, late, h, q) + plot_tube(ctx, tube_series, h_tube)
     notes = (f"Pries et al. 1992 at D = 20 um: tube Ht {metrics['achieved_ht']:.4f} is a "
              f"discharge Ht of {hd:.4f}, relative apparent viscosity {pries:.3f}.")
     return {"metrics": metrics, "tables": {"runs": rows}, "figures": figures, "notes": notes}
