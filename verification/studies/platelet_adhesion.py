@@ -81,14 +81,11 @@ BOUNDS = [
     Bound(r"bond_count_distribution_pvalue", ">=", 1e-3,
           "bond count Binomial(N, k_on / (k_on + k_off)), the master equation's stationary law"),
     # The coupled runs: claims of the model, not agreement with measurements (none here).
-    # ci and quick only for now: the stored full-tier result predates the shear runs (the
-    # full tier's shear runs have not been run yet).
     Bound(r"max_bonds_at_.*", ">=", 1,
-          "the platelet 30 nm above the patch binds (k_on = 1000 1/s, reactive distance 70 nm)",
-          tiers=("ci", "quick")),
+          "the platelet 30 nm above the patch binds (k_on = 1000 1/s, reactive distance 70 nm)"),
     Bound(r"wall_impulse_balance_at_.*", "<=", 1e-12,
           "the walls take exactly the reaction of the bonds' pull on the platelet "
-          "(|impulse_walls + impulse_bodies| / |impulse_bodies|)", tiers=("ci", "quick")),
+          "(|impulse_walls + impulse_bodies| / |impulse_bodies|)"),
 ]
 
 PN = 1e-12
