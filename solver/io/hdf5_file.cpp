@@ -16,6 +16,17 @@ namespace efsi {
 bool hdf5_state_broken = false;
 
 namespace {
+/// Writes the scalar attribute `name` of HDF5 type `type` on `owner` (a file, group or
+/// dataset); the HDF5 status of the write, negative when any call failed.
+herr_t write_scalar_attribute(hid_t owner, const char* name, hid_t type, const void* value) {
+    hid_t space = H5Screate(H5S_SCALAR);
+    hid_t attr = owner >= 0 ? H5Acreate2(owner, name, type, space, H5P_DEFAULT, H5P_DEFAULT) : -1;
+    const herr_t w = attr >= 0 ? H5Awrite(attr, type, value) : -1;
+    if (attr >= 0) H5Aclose(attr);
+    H5Sclose(space);
+    return w;
+}
+
 /// Dataset creation properties that write zeros where no rank writes (parallel HDF5 leaves
 /// such regions undefined otherwise): a body's fields cover only its patch.
 class ZeroFill {
@@ -257,11 +268,7 @@ std::uint64_t Hdf5File::write_block(const std::string& name, const Field& f) {
     const herr_t w = H5Dwrite(dset, H5T_NATIVE_DOUBLE, s.mspace, s.fspace, xfer_, buf.data());
     int e = errno;
     const std::uint64_t sum = block_checksum(dec_, f, buf);
-    hid_t space = H5Screate(H5S_SCALAR);
-    hid_t attr = H5Acreate2(dset, "checksum", H5T_NATIVE_UINT64, space, H5P_DEFAULT, H5P_DEFAULT);
-    const herr_t wa = attr >= 0 ? H5Awrite(attr, H5T_NATIVE_UINT64, &sum) : -1;
-    if (attr >= 0) H5Aclose(attr);
-    H5Sclose(space);
+    const herr_t wa = write_scalar_attribute(dset, "checksum", H5T_NATIVE_UINT64, &sum);
     if (e == 0) e = errno;
     const herr_t cl = H5Dclose(dset);
     errno = e;
@@ -390,11 +397,7 @@ std::uint64_t Hdf5File::write_array_any(const std::string& name, std::size_t n, 
     H5Sclose(mspace);
     H5Sclose(fspace);
     const std::uint64_t sum = array_checksum(values, n);
-    hid_t space = H5Screate(H5S_SCALAR);
-    hid_t attr = H5Acreate2(dset, "checksum", H5T_NATIVE_UINT64, space, H5P_DEFAULT, H5P_DEFAULT);
-    const herr_t wa = attr >= 0 ? H5Awrite(attr, H5T_NATIVE_UINT64, &sum) : -1;
-    if (attr >= 0) H5Aclose(attr);
-    H5Sclose(space);
+    const herr_t wa = write_scalar_attribute(dset, "checksum", H5T_NATIVE_UINT64, &sum);
     if (e == 0) e = errno;
     const herr_t cl = H5Dclose(dset);
     errno = e;
@@ -502,23 +505,14 @@ bool Hdf5File::has_attribute(const std::string& name) const {
 }
 
 void Hdf5File::write_attribute(const std::string& name, double value) {
-    hid_t space = H5Screate(H5S_SCALAR);
     errno = 0;
-    hid_t attr =
-        H5Acreate2(file_, name.c_str(), H5T_NATIVE_DOUBLE, space, H5P_DEFAULT, H5P_DEFAULT);
-    const herr_t w = attr >= 0 ? H5Awrite(attr, H5T_NATIVE_DOUBLE, &value) : -1;
-    if (attr >= 0) H5Aclose(attr);
-    H5Sclose(space);
+    const herr_t w = write_scalar_attribute(file_, name.c_str(), H5T_NATIVE_DOUBLE, &value);
     agree(w >= 0, fmt::format("writing attribute '{}'", name));
 }
 
 void Hdf5File::write_integer_attribute(const std::string& name, std::int64_t value) {
-    hid_t space = H5Screate(H5S_SCALAR);
     errno = 0;
-    hid_t attr = H5Acreate2(file_, name.c_str(), H5T_NATIVE_INT64, space, H5P_DEFAULT, H5P_DEFAULT);
-    const herr_t w = attr >= 0 ? H5Awrite(attr, H5T_NATIVE_INT64, &value) : -1;
-    if (attr >= 0) H5Aclose(attr);
-    H5Sclose(space);
+    const herr_t w = write_scalar_attribute(file_, name.c_str(), H5T_NATIVE_INT64, &value);
     agree(w >= 0, fmt::format("writing attribute '{}'", name));
 }
 
@@ -535,17 +529,12 @@ hid_t attribute_owner(hid_t file, const std::string& group) {
 void Hdf5File::write_string_attribute(const std::string& name, const std::string& value,
                                       const std::string& group) {
     hid_t type = string_type(value.size());
-    hid_t space = H5Screate(H5S_SCALAR);
     errno = 0;
     hid_t owner = attribute_owner(file_, group);
-    hid_t attr =
-        owner >= 0 ? H5Acreate2(owner, name.c_str(), type, space, H5P_DEFAULT, H5P_DEFAULT) : -1;
     std::string padded = value;
     padded.resize(std::max<std::size_t>(1, value.size()), '\0');
-    const herr_t w = attr >= 0 ? H5Awrite(attr, type, padded.data()) : -1;
-    if (attr >= 0) H5Aclose(attr);
+    const herr_t w = write_scalar_attribute(owner, name.c_str(), type, padded.data());
     if (owner >= 0) H5Oclose(owner);
-    H5Sclose(space);
     H5Tclose(type);
     agree(w >= 0, fmt::format("writing attribute '{}'", name));
 }
@@ -558,13 +547,9 @@ void Hdf5File::write_dataset_attributes(
     for (const auto& [key, value] : attrs) {
         if (!ok) break;
         hid_t type = string_type(value.size());
-        hid_t space = H5Screate(H5S_SCALAR);
-        hid_t attr = H5Acreate2(dset, key.c_str(), type, space, H5P_DEFAULT, H5P_DEFAULT);
         std::string padded = value;
         padded.resize(std::max<std::size_t>(1, value.size()), '\0');
-        ok = attr >= 0 && H5Awrite(attr, type, padded.data()) >= 0;
-        if (attr >= 0) H5Aclose(attr);
-        H5Sclose(space);
+        ok = write_scalar_attribute(dset, key.c_str(), type, padded.data()) >= 0;
         H5Tclose(type);
     }
     if (dset >= 0) H5Dclose(dset);
