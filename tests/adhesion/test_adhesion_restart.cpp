@@ -18,22 +18,12 @@
 using namespace efsi;
 using namespace efsi::adhesion;
 using efsi::test::adhesion_config;
+using efsi::test::input_error_of;
 using efsi::test::um;
 using efsi::test::zero_field;
 using ::testing::HasSubstr;
 
 namespace {
-
-/// The message of the InputError `f` throws ("" if none).
-template <class F>
-std::string input_error(F&& f) {
-    try {
-        f();
-    } catch (const InputError& e) {
-        return e.what();
-    }
-    return "";
-}
 
 std::filesystem::path checkpoint_file(const std::string& name) {
     return std::filesystem::temp_directory_path() /
@@ -130,10 +120,10 @@ TEST(AdhesionRestart, StateComesBackThroughTheCheckpointAndContinuesBitForBit) {
     AdhesionConfig fewer = cfg;
     fewer.receptors[0].count = 1000;
     Coupling d(fewer, bodies, *c.dec, 1000, 1e-3);
-    EXPECT_THAT(input_error([&] { d.restore(back); }), HasSubstr("receptor_id"));
+    EXPECT_THAT(input_error_of([&] { d.restore(back); }), HasSubstr("receptor_id"));
 
     // The case has no adhesion, the checkpoint holds it: refused, naming the record.
-    EXPECT_THAT(input_error([&] { read_checkpoint(file, *c.dec, flow_back, clock, {}, ""); }),
+    EXPECT_THAT(input_error_of([&] { read_checkpoint(file, *c.dec, flow_back, clock, {}, ""); }),
                 HasSubstr("holds 'adhesion' state (receptors and bonds)"));
 
     // A flipped value in the stored positions is caught by the array's checksum.
@@ -148,7 +138,7 @@ TEST(AdhesionRestart, StateComesBackThroughTheCheckpointAndContinuesBitForBit) {
         H5Fclose(h5);
     }
     MPI_Barrier(MPI_COMM_WORLD);
-    EXPECT_THAT(input_error([&] {
+    EXPECT_THAT(input_error_of([&] {
                     read_checkpoint(file, *c.dec, flow_back, clock, {}, "", {{"adhesion", &back}});
                 }),
                 HasSubstr("dataset 'adhesion/receptor_x' does not match its checksum"));
@@ -157,7 +147,7 @@ TEST(AdhesionRestart, StateComesBackThroughTheCheckpointAndContinuesBitForBit) {
     // The case has adhesion, the checkpoint does not hold it: refused, naming the record.
     const auto bare = checkpoint_file("bare");
     write_checkpoint(bare, *c.dec, flow, clock);
-    EXPECT_THAT(input_error([&] {
+    EXPECT_THAT(input_error_of([&] {
                     read_checkpoint(bare, *c.dec, flow_back, clock, {}, "", {{"adhesion", &back}});
                 }),
                 HasSubstr("holds no 'adhesion' state (receptors and bonds)"));
@@ -175,11 +165,11 @@ TEST(AdhesionRestart, ARecordThatDoesNotFitIsRefused) {
     StateRecord twice = saved;
     twice.integers["receptor_ligand"][0] = twice.integers["receptor_ligand"][1] = 3;
     Coupling b(cfg, bodies, *c.dec, 1000, 1e-3);
-    EXPECT_THAT(input_error([&] { b.restore(twice); }), HasSubstr("bound to receptors"));
+    EXPECT_THAT(input_error_of([&] { b.restore(twice); }), HasSubstr("bound to receptors"));
     StateRecord missing = saved;
     missing.integers["receptor_ligand"][0] = a.ligands().size();
-    EXPECT_THAT(input_error([&] { b.restore(missing); }), HasSubstr("does not exist"));
+    EXPECT_THAT(input_error_of([&] { b.restore(missing); }), HasSubstr("does not exist"));
     StateRecord absent = saved;
     absent.reals.erase("receptor_x");
-    EXPECT_THAT(input_error([&] { b.restore(absent); }), HasSubstr("receptor_x"));
+    EXPECT_THAT(input_error_of([&] { b.restore(absent); }), HasSubstr("receptor_x"));
 }
