@@ -307,6 +307,12 @@ Config read_config(toml::table& root, const std::filesystem::path& case_dir) {
         c.time.viscous = v == "explicit"         ? ViscousScheme::Explicit
                          : v == "crank_nicolson" ? ViscousScheme::CrankNicolson
                                                  : ViscousScheme::BackwardEuler;
+        c.time.increment_damping = r.number(
+            "increment_damping", 1.0, Range::closed(1, 1e6), "-",
+            "F >= 1: the implicit viscous solve damps the velocity increment with the extra "
+            "viscosity (F - 1) fluid.viscosity, relaxing the viscous time-step limits of the "
+            "membrane and bending forces F-fold; exact at steady state, a lag of about F dt in "
+            "transients (docs/method.md); 1 = off");
         r.finish();
     }
     {
@@ -393,6 +399,10 @@ Config read_config(toml::table& root, const std::filesystem::path& case_dir) {
         // Impossible set-ups, caught before allocation.
         if (c.time.fixed_dt == 0 && c.time.viscous == ViscousScheme::Explicit && c.time.cfl > 0.9)
             throw InputError("time.cfl: must be <= 0.9 with an explicit viscous term");
+        if (c.time.increment_damping > 1 && c.time.viscous == ViscousScheme::Explicit)
+            throw InputError("time.increment_damping: needs an implicit viscous term "
+                             "(time.viscous = \"crank_nicolson\" or \"backward_euler\"); "
+                             "it is damping added to the implicit viscous solve");
         const LinearSolverChoice choice = choose_linear_solvers(c);
         if (c.viscous_solver.method == "fft" && c.time.viscous != ViscousScheme::Explicit &&
             !choice.viscous_fft)

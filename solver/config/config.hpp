@@ -31,6 +31,10 @@ struct TimeConfig {
     real cfl = 0.5;          ///< safety factor on every stability limit
     real dt_max = 0;         ///< [s]; 0 = no cap
     ViscousScheme viscous = ViscousScheme::CrankNicolson;
+    /// F >= 1: the implicit viscous solve also damps the velocity increment with the extra
+    /// viscosity (F - 1) mu_f, which relaxes the viscous time-step limits of explicit
+    /// elastic forces (membrane, bending) by about F; 1 = off (SmacStepper, docs/method.md).
+    real increment_damping = 1;
 };
 
 struct InitialConfig {
@@ -92,6 +96,13 @@ struct LinearSolverChoice {
     std::string pressure_reason, viscous_reason;
 };
 LinearSolverChoice choose_linear_solvers(const Config& c);
+
+/// The extra viscosity that damps the velocity increment, (F - 1) mu_f with F =
+/// time.increment_damping [Pa s]; it adds to the viscosity of the membrane and bending
+/// time-step limits.
+inline real increment_viscosity(const Config& c) {
+    return (c.time.increment_damping - 1) * c.fluid.viscosity;
+}
 
 /// `--set section.key=value` overrides, applied to the TOML before it is read.
 using Overrides = std::vector<std::pair<std::string, std::string>>;

@@ -47,7 +47,7 @@ MembraneBody::MembraneBody(const BodyConfig& b, const BodyContext& ctx) : BodyPh
     if (b.profile_iterations > 0)
         reinit_ = std::make_unique<ConservativeReinit>(ctx.halos, b.smoothing_width,
                                                        b.profile_iterations);
-    const real mu = b.membrane_damping_viscosity(run.fluid.viscosity);
+    const real mu = b.membrane_damping_viscosity(run.fluid.viscosity) + increment_viscosity(run);
     const real membrane =
         membrane_time_step_limit(run.grid, run.fluid.density, mu, law_->stiffest_modulus());
     if (membrane > 0) limits_.push_back({"membrane", membrane});

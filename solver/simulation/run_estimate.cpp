@@ -91,7 +91,7 @@ RunEstimate estimate_run(const Config& cfg, int ranks, const CostRates& r) {
                  fmt::format("elastic, body '{}'", b.name));
         } else {
             e.membrane_patch_cells += p;
-            const real mu_m = b.membrane_damping_viscosity(mu);
+            const real mu_m = b.membrane_damping_viscosity(mu) + increment_viscosity(cfg);
             const auto law = make_membrane_law(b.law, b.elastic_modulus, b.area_dilation);
             take(membrane_time_step_limit(g, rho, mu_m, law->stiffest_modulus()),
                  fmt::format("membrane, body '{}'", b.name));

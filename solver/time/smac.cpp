@@ -238,14 +238,30 @@ SolveReport SmacStepper::viscous_solve(const FlowState& s, real dt) {
     const GlobalGrid& g = dec_.grid();
     const auto& bc = cfg_.boundaries;
     const real a = theta_ * dt / cfg_.fluid.density;
+    // Increment damping (time.increment_damping = F): b lap_h (v* - v^n) joins the implicit
+    // side, b = dt (F - 1) mu_f / rho; zero (and no work) when F = 1.
+    const real b =
+        dt * (cfg_.time.increment_damping - 1) * cfg_.fluid.viscosity / cfg_.fluid.density;
+    std::array<real, 3> inv_h2{};
+    for (int e = 0; e < s.u.dim; ++e)
+        inv_h2[e] = 1.0 / (g.dx(e) * g.dx(e));
     const bool reassemble = s.viscosity_varies || dt != viscous_dt_;
     bool used_hypre = false;
     SolveReport worst;
     for (int c = 0; c < s.u.dim; ++c) {
-        // Right-hand side: the predictor plus the known wall values of the ghosts.
+        // Right-hand side: the predictor plus the known wall values of the ghosts (and, with
+        // increment damping, -b lap_h v^n, its ghosts holding the walls at t^n).
         for_each_cell(dec_.block().cells, [&](int i, int j, int k) {
             const Int3 p{i, j, k};
             real r = ustar_[c](p);
+            if (b > 0 && !halos_.is_fixed_wall_face(c, p[c])) {
+                const real uc = s.u[c](p);
+                real lap = 0;
+                for (int e = 0; e < s.u.dim; ++e)
+                    lap +=
+                        (s.u[c](shifted(p, e, -1)) - 2 * uc + s.u[c](shifted(p, e, 1))) * inv_h2[e];
+                r -= b * lap;
+            }
             // Only points next to a no-slip wall across their component get a wall term
             // (the weights are computed there only: this loop runs before every solve).
             bool next_to_wall = false;
@@ -259,14 +275,15 @@ SolveReport SmacStepper::viscous_solve(const FlowState& s, real dt) {
                     for (int side = 0; side < 2; ++side)
                         if (e != c && on_box_face(dec_, bc, e, side, p) &&
                             bc[e][side].type == BoundaryType::Wall)
-                            r += 2 * a * w[e][side] * bc[e][side].velocity_at(c, halos_.time());
+                            r += 2 * (a * w[e][side] + b * inv_h2[e]) *
+                                 bc[e][side].velocity_at(c, halos_.time());
             }
             rhs_(p) = r;
         });
         if (viscous_fft_[c] && !s.viscosity_varies && !pinning_) {
             // Constant coefficients: (I - a mu L_h) solved directly, mu the (uniform)
             // viscosity field's value as the other terms and the hypre operator use it.
-            viscous_fft_[c]->set_coefficients(1.0, a * s.mu(0, 0, 0));
+            viscous_fft_[c]->set_coefficients(1.0, a * s.mu(0, 0, 0) + b);
             const SolveReport r = viscous_fft_[c]->solve(rhs_, ustar_[c]);
             if (r.iterations >= worst.iterations) worst = r;
             continue;
@@ -285,8 +302,9 @@ SolveReport SmacStepper::viscous_solve(const FlowState& s, real dt) {
                 st.centre = 1 + (pinning_ ? (*pinning_)[c](p) : 0.0);
                 for (int e = 0; e < s.u.dim; ++e)
                     for (int side = 0; side < 2; ++side) {
-                        st.centre += a * w[e][side];
-                        st.neighbour[e][side] = -a * w[e][side];
+                        const real aw = a * w[e][side] + b * inv_h2[e];
+                        st.centre += aw;
+                        st.neighbour[e][side] = -aw;
                         if (e == c) {
                             // Coupling to the fixed (zero) wall face drops out, keeping A
                             // symmetric.
@@ -294,8 +312,7 @@ SolveReport SmacStepper::viscous_solve(const FlowState& s, real dt) {
                                 st.neighbour[e][side] = 0;
                         } else if (on_box_face(dec_, bc, e, side, p)) {
                             // Ghost = 2U - u (wall) or u (free slip), folded into the centre.
-                            st.centre += bc[e][side].type == BoundaryType::Wall ? a * w[e][side]
-                                                                                : -a * w[e][side];
+                            st.centre += bc[e][side].type == BoundaryType::Wall ? aw : -aw;
                         }
                     }
                 return st;

@@ -3,14 +3,16 @@
 //   1. advection   A^n = -div(v^n v^n)                      (central, conservative)
 //   2. predictor   v* = v^n + dt [ AB2(A + F/rho) - grad p^n / rho + f / rho
 //                                  + (1 - theta) Lmu(v^n) / rho + T(v^n) / rho ]
-//   3. viscous     (I - theta dt Lmu / rho) v* = (predictor)     (implicit)
+//   3. viscous     (I - theta dt Lmu / rho - b lap) v* = (predictor) - b lap v^n  (implicit)
 //   4. pressure    -lap(phi) = -(rho / dt) div v*
 //   5. correction  v^{n+1} = v* - (dt / rho) grad phi,   p^{n+1} = p^n + phi
 //
 // Lmu u_c = div(mu grad u_c) is treated implicitly (theta = 1/2 Crank-Nicolson or 1
 // backward Euler; theta = 0 is the explicit scheme) and T = div(mu (grad v)^T), which
 // vanishes for uniform mu, explicitly. AB2 uses the variable-step weights; F, the force
-// density of bodies (elastic, membrane), is extrapolated with the advection.
+// density of bodies (elastic, membrane), is extrapolated with the advection. b = dt (D - 1)
+// mu_f / rho damps the velocity increment (D = time.increment_damping, 1 = off: b = 0 and
+// no work); it vanishes at steady state and relaxes the explicit membrane limits D-fold.
 //
 // Pinned solids add the Brinkman penalisation -(chi / tau) v (chi their volume fraction on
 // the faces), implicit: the viscous solve becomes (I + K - theta dt Lmu / rho) v* = ...

@@ -440,3 +440,17 @@ TEST(Config, ShippedCasesAreValid) {
     EXPECT_GE(n, 5);
     EXPECT_THAT(input_error_of([] { load_case("/nonexistent/case"); }), HasSubstr("no such case"));
 }
+
+TEST(Config, IncrementDampingNeedsAnImplicitViscousTermAndFAtLeastOne) {
+    EXPECT_THAT(input_error_of([] {
+                    case_from(base_case, {{"time.increment_damping", "0.5"}});
+                }),
+                HasSubstr("time.increment_damping"));
+    const std::string msg = input_error_of([] {
+        case_from(base_case, {{"time.increment_damping", "2.0"}, {"time.viscous", "\"explicit\""}});
+    });
+    EXPECT_THAT(msg, HasSubstr("time.increment_damping"));
+    EXPECT_THAT(msg, HasSubstr("implicit viscous"));
+    const Config c = case_from(base_case, {{"time.increment_damping", "3.0"}});
+    EXPECT_DOUBLE_EQ(increment_viscosity(c), 2.0 * c.fluid.viscosity);
+}

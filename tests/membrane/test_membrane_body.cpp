@@ -119,3 +119,33 @@ interface = "smoothed"
     Bodies one(grid_2d() + capsule);
     EXPECT_FALSE(one.system.viscosity_varies());
 }
+
+TEST(MembraneBody, IncrementDampingRelaxesTheViscousLimits) {
+    // time.increment_damping = F adds (F - 1) mu_f to the viscosity of both limits
+    // (config.hpp increment_viscosity): at this low density both are viscous, so F-fold.
+    const std::string capsule = R"(
+[[body]]
+name = "capsule"
+kind = "membrane"
+elastic_modulus = 0.5
+bending_modulus = 1e-4
+shape = "cylinder"
+centre = [0.6, 0.5, 0.0]
+radius = 0.25
+interface = "smoothed"
+)";
+    Bodies plain(grid_2d() + capsule);
+    std::string damped_text = grid_2d() + capsule;
+    const std::string end = "end_time = 1.0\n";
+    ASSERT_NE(damped_text.find(end), std::string::npos);
+    damped_text.insert(damped_text.find(end) + end.size(), "increment_damping = 3.0\n");
+    Bodies damped(damped_text);
+    const auto& a = plain.physics(0).time_step_limits();
+    const auto& b = damped.physics(0).time_step_limits();
+    ASSERT_EQ(a.size(), 2u);
+    ASSERT_EQ(b.size(), 2u);
+    const GlobalGrid& g = damped.cfg.grid;
+    EXPECT_EQ(b[0].dt, membrane_time_step_limit(g, 2.0, 3 * 0.1, 0.5));
+    EXPECT_EQ(b[1].dt, bending_time_step_limit(g, 2.0, 3 * 0.1, 1e-4));
+    EXPECT_GT(b[0].dt, a[0].dt);
+}

@@ -257,3 +257,102 @@ TEST(Smac, ResultDoesNotDependOnTheRankLayout) {
     EXPECT_NEAR(auto_layout.first, x_layout.first, 1e-9 * auto_layout.first);
     EXPECT_NEAR(auto_layout.second, x_layout.second, 1e-9 * std::abs(auto_layout.second));
 }
+
+// Increment damping (time.increment_damping = F): the implicit solve also carries
+// b lap_h (v* - v^n), b = dt (F - 1) mu / rho.
+class IncrementDamping : public ::testing::TestWithParam<std::string> {};
+
+TEST_P(IncrementDamping, ShearWaveDecaysWithTheDampedAmplificationFactor) {
+    // u_x = A sin(2 pi y / L) in a periodic box: solenoidal, its advection vanishes
+    // exactly (u . grad u_x = u_x d/dx u_x = 0), so a step multiplies it by
+    // G = (1 - (1 - theta) s + b l) / (1 + theta s + b l), s = dt mu l / rho and -l the
+    // discrete Laplacian's eigenvalue 4 sin^2(pi / N) / h^2; without damping (b = 0) the
+    // factor of plain Crank-Nicolson / backward Euler.
+    const std::string scheme = GetParam();
+    const real theta = scheme == "backward_euler" ? 1.0 : 0.5;
+    const bool hypre = scheme == "crank_nicolson_hypre";
+    const real F = 9.0, rho = 1.0, mu = 0.02, dt = 0.05;
+    Rig r(periodic_box, {{"time.viscous", hypre ? "crank_nicolson" : scheme},
+                         {"time.increment_damping", "9.0"},
+                         {"solver.viscous.method", hypre ? "pcg_pfmg" : "auto"},
+                         {"solver.viscous.tolerance", "1e-14"}});
+    const int ny = 8;
+    const real h = 0.1, A = 0.7;
+    for (int c = 0; c < 3; ++c)
+        r.s.u[c].fill(0.0);
+    for_each_cell(r.dec.block().cells, [&](int i, int j, int k) {
+        const Int3 q = r.global({i, j, k});
+        r.s.u[0](i, j, k) = A * std::sin(2 * M_PI * (q[1] + 0.5) / ny);
+    });
+    r.halos.fill(r.s.u);
+    const real l = 4 * std::sin(M_PI / ny) * std::sin(M_PI / ny) / (h * h);
+    const real s = dt * mu * l / rho, b = dt * (F - 1) * mu / rho;
+    const real G = (1 - (1 - theta) * s + b * l) / (1 + theta * s + b * l);
+    const int steps = 6;
+    for (int n = 0; n < steps; ++n)
+        r.stepper.step(r.s, dt, r.timers);
+    const real amp = A * std::pow(G, steps);
+    const real tol = hypre ? 1e-9 : 1e-13;
+    EXPECT_LT(r.max_error([&](int c, const Real3& x) {
+        return c == 0 ? amp * std::sin(2 * M_PI * x[1] / 0.8) : 0.0;
+    }),
+              tol);
+    // The damping slows the decay: the undamped factor is smaller.
+    EXPECT_LT((1 - (1 - theta) * s) / (1 + theta * s), G);
+}
+
+TEST_P(IncrementDamping, SteadyCouetteAndPoiseuilleStayFixedPoints) {
+    // Exact at steady state: v* - v^n = 0 there, so the damping adds nothing (walls, one
+    // moving, and a body force, on the FFT and the hypre paths).
+    const std::string scheme = GetParam();
+    const bool hypre = scheme == "crank_nicolson_hypre";
+    const std::string viscous = hypre ? "crank_nicolson" : scheme;
+    const std::string method = hypre ? "pcg_pfmg" : "auto";
+    {
+        Rig r(channel, {{"time.viscous", viscous},
+                        {"time.increment_damping", "20.0"},
+                        {"solver.viscous.method", method}});
+        auto exact = [](int c, const Real3& x) { return c == 0 ? x[1] : 0.0; };
+        for (int n = 0; n < 5; ++n)
+            r.stepper.step(r.s, 0.02, r.timers);
+        EXPECT_LT(r.max_error(exact), 1e-11);
+    }
+    {
+        // The discrete steady Poiseuille profile, reached without damping, is a fixed point
+        // with it.
+        const Overrides o{{"time.viscous", viscous},
+                          {"initial.type", "poiseuille"},
+                          {"boundary.y_high", "wall"},
+                          {"forcing.body_force", "[0.8, 0.0, 0.0]"},
+                          {"solver.viscous.method", method}};
+        Rig plain(channel, o);
+        for (int n = 0; n < 400; ++n)
+            plain.stepper.step(plain.s, 0.05, plain.timers);
+        Overrides od = o;
+        od.push_back({"time.increment_damping", "20.0"});
+        Rig damped(channel, od);
+        for (int c = 0; c < 2; ++c)
+            damped.s.u[c] = plain.s.u[c];
+        damped.s.p = plain.s.p;
+        damped.halos.fill(damped.s.u);
+        damped.halos.fill(damped.s.p);
+        real before = 0;
+        for_each_cell(damped.dec.block().cells, [&](int i, int j, int k) {
+            before = std::max(before, std::abs(damped.s.u[0](i, j, k)));
+        });
+        VelocityField start = damped.s.u;
+        for (int n = 0; n < 5; ++n)
+            damped.stepper.step(damped.s, 0.05, damped.timers);
+        real change = 0;
+        for (int c = 0; c < 2; ++c)
+            for_each_cell(damped.dec.block().cells, [&](int i, int j, int k) {
+                change = std::max(change, std::abs(damped.s.u[c](i, j, k) - start[c](i, j, k)));
+            });
+        EXPECT_GT(damped.dec.max(before), 0.1);
+        EXPECT_LT(damped.dec.max(change), 1e-10);
+    }
+}
+
+INSTANTIATE_TEST_SUITE_P(Viscous, IncrementDamping,
+                         ::testing::Values("crank_nicolson", "backward_euler",
+                                           "crank_nicolson_hypre"));
