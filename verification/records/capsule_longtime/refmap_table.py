@@ -49,6 +49,22 @@ RUNS = [
     ("ca0.05_n64_bend0.01_t20_cubic", "reference_map, cubic", 0.05, "neo_hookean", None),
     ("ca0.025_n64_skalak_C10_t3_cubic", "reference_map, cubic", 0.025, "skalak", 10.0),
     ("ca0.05_n128_t10_cubic", "reference_map, cubic", 0.05, "neo_hookean", None),
+    # Session 21: the smoothing width eps (cells) of the membrane's profile, 0.5 and 0.75
+    # instead of the case's 1 (`--set body[0].smoothing_width=...`), the default keys else.
+    ("ca0.2_n64_t5_w05", "reference_map, cubic, eps 0.5", 0.2, "neo_hookean", None),
+    ("ca0.05_n64_t10_w05", "reference_map, cubic, eps 0.5", 0.05, "neo_hookean", None),
+    ("ca0.1_n64_t10_w05", "reference_map, cubic, eps 0.5", 0.1, "neo_hookean", None),
+    ("ca0.05_n32_t10_w05", "reference_map, cubic, eps 0.5", 0.05, "neo_hookean", None),
+    ("ca0.2_n32_t10_w05", "reference_map, cubic, eps 0.5", 0.2, "neo_hookean", None),
+    ("ca0.2_n64_t10_w075", "reference_map, cubic, eps 0.75", 0.2, "neo_hookean", None),
+    ("ca0.2_n64_t6_w075", "reference_map, cubic, eps 0.75", 0.2, "neo_hookean", None),
+    ("ca0.05_n64_t6_w075", "reference_map, cubic, eps 0.75", 0.05, "neo_hookean", None),
+    ("ca0.1_n64_t10_w075", "reference_map, cubic, eps 0.75", 0.1, "neo_hookean", None),
+    ("ca0.025_n64_t5_w075", "reference_map, cubic, eps 0.75", 0.025, "neo_hookean", None),
+    ("ca0.0125_n64_t5_w075", "reference_map, cubic, eps 0.75", 0.0125, "neo_hookean", None),
+    ("ca0.05_n64_bend0.01_t5_w075", "reference_map, cubic, eps 0.75", 0.05, "neo_hookean", None),
+    ("ca0.05_n32_t10_w075", "reference_map, cubic, eps 0.75", 0.05, "neo_hookean", None),
+    ("ca0.2_n32_t10_w075", "reference_map, cubic, eps 0.75", 0.2, "neo_hookean", None),
 ]
 
 
