@@ -65,6 +65,7 @@ RUNS = [
     ("ca0.05_n64_bend0.01_t5_w075", "reference_map, cubic, eps 0.75", 0.05, "neo_hookean", None),
     ("ca0.05_n32_t10_w075", "reference_map, cubic, eps 0.75", 0.05, "neo_hookean", None),
     ("ca0.2_n32_t10_w075", "reference_map, cubic, eps 0.75", 0.2, "neo_hookean", None),
+    ("ca0.2_n128_t6_w075", "reference_map, cubic, eps 0.75", 0.2, "neo_hookean", None),
 ]
 
 
