@@ -23,13 +23,10 @@ Tiers: ci d/8 to t = 0.3 (F = 1, 2 only, no reference run); quick d/8 to t = 1; 
 to t = 3 (about 10 minutes on one core). Not yet measured: d/16 (F = 1 to t = 1 alone takes
 about 14 minutes there).
 """
-import json
-from pathlib import Path
-
 import numpy as np
 
 from _bounds import Bound
-from _flowio import body_series, cached_run, capsule_box_sets
+from _flowio import body_series, cached_run, capsule_box_sets, run_status
 
 DESCRIPTION = "increment damping: time steps saved against the change in D (stiff Skalak capsule)"
 
@@ -78,7 +75,7 @@ def run(ctx):
                    t_end, ranks=1, allow_unstable=True)
         t, D, _, _ = body_series(out)
         _, trace = body_series(out, columns=("tensor_trace_max",))
-        summary = json.loads((Path(out) / "summary.json").read_text())
+        summary = run_status(out)
         series[tag] = (t, D)
         last = t >= 0.75 * t[-1]
         metrics[f"reached_end_{tag}"] = int(abs(t[-1] - t_end) <= 1e-9)
