@@ -175,43 +175,51 @@ def broken_bounds(m: dict, asked: float, ca: float, law: str, c) -> list:
     return out
 
 
+def plan(tier: str) -> list:
+    """(cells per diameter, end time, run) in the order they are run: the cheap runs first
+    (neo-Hookean and bending, d/16 before d/32), then the Skalak runs by C, whose steps shrink
+    with the area modulus (C = 100 at d/16 takes about a day on one core), so that an
+    interrupted full tier has finished everything it can, resuming from checkpoints."""
+    runs = [(n, t_end, r) for n, t_end, rs in TIERS[tier] for r in rs]
+    return sorted(runs, key=lambda p: (p[2][1] == "skalak", p[2][2] or 0.0, p[0]))
+
+
 def run(ctx):
     metrics, rows, failures = {}, [], []
-    for n, t_end, runs in TIERS[ctx.tier]:
-        for ca, law, c, eb in runs:
-            key = tag(ca, n, law, c, eb)
-            out = ctx.outdir / "runs" / f"{key}_t{t_end:g}"
-            cached_run(ctx, ctx.repo / "cases" / "capsule_shear", out,
-                       run_sets(n, ca, t_end, law, c, eb), t_end,
-                       ranks=ctx.long_ranks, allow_unstable=True)
-            m = measure(out)
-            for name in ("t_end", "steady_D", "steady_angle_over_pi", "steady_D_drift",
-                         "max_trace_Gs", "max_area_change", "volume_drift"):
-                metrics[f"{name}_{key}"] = m[name]
-            if m["reference_area_drift"] is not None:
-                metrics[f"reference_area_drift_{key}"] = m["reference_area_drift"]
-            ref = steady_reference(ca, law, c)
-            metrics[f"reached_end_{key}"] = int(abs(m["t_end"] - t_end) <= 1e-9)
-            if ref is not None and eb == 0.0:
-                metrics[f"steady_D_error_{key}"] = float(abs(m["steady_D"] - ref))
-            t_run, D_run, _, _ = body_series(out)
-            full = full_range_error(t_run, D_run, ca, law, eb)
-            if full is not None:
-                metrics[f"max_abs_D_error_full_{key}"] = full
-            broken = broken_bounds(m, t_end, ca, law, c)
-            failures += [f"{key}: {b}" for b in broken]
-            rows.append({"run": key, "asked t": t_end, "t reached": round(m["t_end"], 4),
-                         "status": m["status"], "steady D": round(m["steady_D"], 4),
-                         "published steady D": round(ref, 4),
-                         "angle/pi": round(m["steady_angle_over_pi"], 4),
-                         "D drift": round(m["steady_D_drift"], 4),
-                         "max tr Gs": round(m["max_trace_Gs"], 3),
-                         "area change": round(m["max_area_change"], 4),
-                         "volume drift": f"{m['volume_drift']:.2g}",
-                         "reference area drift": ("-" if m["reference_area_drift"] is None
-                                                  else f"{m['reference_area_drift']:.2g}"),
-                         "wall [s]": m["wall_seconds"], "ranks": m["ranks"],
-                         "broken bounds": "; ".join(broken) or "none"})
+    for n, t_end, (ca, law, c, eb) in plan(ctx.tier):
+        key = tag(ca, n, law, c, eb)
+        out = ctx.outdir / "runs" / f"{key}_t{t_end:g}"
+        cached_run(ctx, ctx.repo / "cases" / "capsule_shear", out,
+                   run_sets(n, ca, t_end, law, c, eb), t_end,
+                   ranks=ctx.long_ranks, allow_unstable=True)
+        m = measure(out)
+        for name in ("t_end", "steady_D", "steady_angle_over_pi", "steady_D_drift",
+                     "max_trace_Gs", "max_area_change", "volume_drift"):
+            metrics[f"{name}_{key}"] = m[name]
+        if m["reference_area_drift"] is not None:
+            metrics[f"reference_area_drift_{key}"] = m["reference_area_drift"]
+        ref = steady_reference(ca, law, c)
+        metrics[f"reached_end_{key}"] = int(abs(m["t_end"] - t_end) <= 1e-9)
+        if ref is not None and eb == 0.0:
+            metrics[f"steady_D_error_{key}"] = float(abs(m["steady_D"] - ref))
+        t_run, D_run, _, _ = body_series(out)
+        full = full_range_error(t_run, D_run, ca, law, eb)
+        if full is not None:
+            metrics[f"max_abs_D_error_full_{key}"] = full
+        broken = broken_bounds(m, t_end, ca, law, c)
+        failures += [f"{key}: {b}" for b in broken]
+        rows.append({"run": key, "asked t": t_end, "t reached": round(m["t_end"], 4),
+                     "status": m["status"], "steady D": round(m["steady_D"], 4),
+                     "published steady D": round(ref, 4),
+                     "angle/pi": round(m["steady_angle_over_pi"], 4),
+                     "D drift": round(m["steady_D_drift"], 4),
+                     "max tr Gs": round(m["max_trace_Gs"], 3),
+                     "area change": round(m["max_area_change"], 4),
+                     "volume drift": f"{m['volume_drift']:.2g}",
+                     "reference area drift": ("-" if m["reference_area_drift"] is None
+                                              else f"{m['reference_area_drift']:.2g}"),
+                     "wall [s]": m["wall_seconds"], "ranks": m["ranks"],
+                     "broken bounds": "; ".join(broken) or "none"})
     metrics["acceptance_failures"] = len(failures)
     result = {"metrics": metrics, "tables": {"runs": rows},
               "notes": ("Targets of issue 19 (ACCEPTANCE): " + json.dumps(ACCEPTANCE)

@@ -142,7 +142,7 @@ def reference_curve(data: Path, ca: float):
 
 
 def run_one(ctx, dim: int, n: int, ca: float, t_end: float, skalak_c: float | None = None,
-            width: float = 1.0, reach: float = 5.0) -> Path:
+            width: float | None = None, reach: float = 5.0) -> Path:
     """One cached run; a run that stops UNSTABLE is returned too (see stopped_at)."""
     case = ctx.repo / "cases" / ("capsule_shear" if dim == 3 else "capsule_shear_2d")
     sets = run_sets(dim, n, ca, t_end, skalak_c, width, reach)
@@ -180,7 +180,7 @@ def stopped_at(out: Path) -> float | None:
 
 
 def run_sets(dim: int, n: int, ca: float, t_end: float, skalak_c: float | None = None,
-             width: float = 1.0, reach: float = 5.0) -> dict:
+             width: float | None = None, reach: float = 5.0) -> dict:
     """The case keys of one run (also used to start a cached run by hand)."""
     sets = {**capsule_box_sets(dim, n), "body[0].elastic_modulus": repr(1.0 / ca),
             "time.end_time": repr(t_end), "output.fields_interval": "0.5",
@@ -189,7 +189,7 @@ def run_sets(dim: int, n: int, ca: float, t_end: float, skalak_c: float | None =
     if skalak_c is not None:
         sets["body[0].law"] = '"skalak"'
         sets["body[0].area_dilation"] = repr(skalak_c)
-    if width != 1.0:
+    if width is not None:  # None: the case's own width (cases/capsule_shear(_2d))
         sets["body[0].smoothing_width"] = repr(width)
     if reach != 5.0:
         sets["body[0].surface_velocity_reach"] = repr(reach)
@@ -197,9 +197,9 @@ def run_sets(dim: int, n: int, ca: float, t_end: float, skalak_c: float | None =
 
 
 def run_dir(ctx, dim: int, n: int, ca: float, t_end: float, skalak_c: float | None = None,
-            width: float = 1.0, reach: float = 5.0) -> Path:
+            width: float | None = None, reach: float = 5.0) -> Path:
     law = "" if skalak_c is None else f"_skalak_C{skalak_c:g}"
-    w = "" if width == 1.0 else f"_w{width:g}"
+    w = "" if width is None else f"_w{width:g}"
     r = "" if reach == 5.0 else f"_reach{reach:g}"
     return ctx.outdir / "runs" / f"{dim}d_n{n}{law}{w}{r}_ca{ca:g}_t{t_end:g}"
 
