@@ -7,6 +7,7 @@
 #include <fmt/core.h>
 
 #include <algorithm>
+#include <chrono>
 #include <cmath>
 #include <numbers>
 #include <type_traits>
@@ -197,6 +198,7 @@ struct FftSolver::Impl {
     std::array<fftw_plan, 3> forward{}, backward{};
     real norm = 1;
     real alpha = 0, beta = 1;
+    PhaseSeconds seconds;
 
     ~Impl() {
         for (int d = 0; d < 3; ++d) {
@@ -251,9 +253,30 @@ std::string FftSolver::describe() const {
     return s;
 }
 
+const FftSolver::PhaseSeconds& FftSolver::phase_seconds() const {
+    return impl_->seconds;
+}
+
+namespace {
+/// Adds the seconds since the last lap to one of the phase accumulators.
+class PhaseClock {
+  public:
+    void lap(double& into) {
+        const auto now = std::chrono::steady_clock::now();
+        into += std::chrono::duration<double>(now - last_).count();
+        last_ = now;
+    }
+
+  private:
+    std::chrono::steady_clock::time_point last_ = std::chrono::steady_clock::now();
+};
+} // namespace
+
 SolveReport FftSolver::solve(const Field& rhs, Field& x) {
     Impl& I = *impl_;
     FftWorkspace& ws = *I.ws;
+    PhaseSeconds& sec = I.seconds;
+    PhaseClock clock;
     const Int3 nb = ws.cart.size();
     // Owned values to the Cartesian buffer (or straight to slab A when they coincide).
     real* block = ws.c ? ws.c : ws.a;
@@ -264,12 +287,17 @@ SolveReport FftSolver::solve(const Field& rhs, Field& x) {
             const real* from = rhs.data().data() + rhs.index(0, j, k);
             std::copy(from, from + nb[0], row);
         }
+    clock.lap(sec.copy);
     if (ws.c) ws.cart_to_a->run(ws.c, ws.a);
+    clock.lap(sec.redistribution);
     for (int d = 0; d < ws.dim; ++d)
         if (d != ws.split_a && I.forward[d]) fftw_execute(I.forward[d]);
+    clock.lap(sec.transforms);
     if (ws.b != ws.a) ws.a_to_b->run(ws.a, ws.b);
+    clock.lap(sec.redistribution);
     const int s = ws.split_a;
     if (I.forward[s]) fftw_execute(I.forward[s]);
+    clock.lap(sec.transforms);
     {
         // Divide by the eigenvalues (and the transforms' normalisation); the zero mode of
         // a singular operator and the fixed wall faces are set to zero.
@@ -289,11 +317,16 @@ SolveReport FftSolver::solve(const Field& rhs, Field& x) {
                 }
             }
     }
+    clock.lap(sec.divide);
     if (I.backward[s]) fftw_execute(I.backward[s]);
+    clock.lap(sec.transforms);
     if (ws.b != ws.a) ws.b_to_a->run(ws.b, ws.a);
+    clock.lap(sec.redistribution);
     for (int d = ws.dim - 1; d >= 0; --d)
         if (d != ws.split_a && I.backward[d]) fftw_execute(I.backward[d]);
+    clock.lap(sec.transforms);
     if (ws.c) ws.a_to_cart->run(ws.a, ws.c);
+    clock.lap(sec.redistribution);
     for (int k = 0; k < nb[2]; ++k)
         for (int j = 0; j < nb[1]; ++j) {
             const real* row = block + sblock.row * j + sblock.plane * k;
@@ -306,6 +339,7 @@ SolveReport FftSolver::solve(const Field& rhs, Field& x) {
             plane.hi[d] = 1;
             for_each_in(plane, [&](int i, int j, int k) { x(i, j, k) = rhs(i, j, k); });
         }
+    clock.lap(sec.copy);
     SolveReport r;
     r.iterations = 1;
     r.relative_residual = 0;

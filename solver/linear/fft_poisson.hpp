@@ -71,6 +71,14 @@ class FftSolver {
     /// One line naming the transform of each direction (for logs).
     std::string describe() const;
 
+    /// Wall seconds spent so far in each phase of solve(), summed over calls on this rank:
+    /// copy (block in and out), transforms (every FFTW execution), redistribution (the
+    /// block-to-slab and slab-to-slab moves, MPI included) and divide (by the eigenvalues).
+    struct PhaseSeconds {
+        double copy = 0, transforms = 0, redistribution = 0, divide = 0;
+    };
+    const PhaseSeconds& phase_seconds() const;
+
   private:
     struct Impl;
     std::unique_ptr<Impl> impl_;
