@@ -66,6 +66,10 @@ RUNS = [
     ("ca0.05_n32_t10_w075", "reference_map, cubic, eps 0.75", 0.05, "neo_hookean", None),
     ("ca0.2_n32_t10_w075", "reference_map, cubic, eps 0.75", 0.2, "neo_hookean", None),
     ("ca0.2_n128_t6_w075", "reference_map, cubic, eps 0.75", 0.2, "neo_hookean", None),
+    # the same capsule in a box twice as large (16 a, walls at y = -8 / +8 moving at -8 / +8):
+    # the confinement's share of D (docs/method.md)
+    ("ca0.2_n64_box16_t6", "reference_map, cubic, eps 0.75, box 16 a", 0.2, "neo_hookean",
+     None),
 ]
 
 
