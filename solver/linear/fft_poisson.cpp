@@ -23,12 +23,20 @@ class FftWorkspace {
         const GlobalGrid& g = dec.grid();
         dim = dec.dim();
         n = g.cells;
+        // With x periodic the x transform is real-to-complex: each row of n reals becomes
+        // n/2 + 1 complex numbers (2 (n/2 + 1) reals, re and im interleaved), and every other
+        // direction transforms complex data (complex FFTs where periodic: FFTW's SIMD
+        // codelets, 2-2.5x faster along a strided direction than its scalar R2HC), or re and
+        // im alike (the real transforms of a wall direction).
+        complex_x = dec.periodic()[0];
+        spectral = n;
+        if (complex_x) spectral[0] = 2 * (n[0] / 2 + 1);
         // Slab A is split along the last direction (z in 3D, y in 2D), slab B along the
         // one before it; each keeps the other directions whole.
         split_a = dim - 1;
         split_b = dim - 2;
         const int size = dec.size();
-        std::vector<Box> cart_boxes(size), a_boxes(size), b_boxes(size);
+        std::vector<Box> cart_boxes(size), a_boxes(size), a_spectral(size), b_boxes(size);
         const LocalBlock& blk = dec.block();
         std::array<int, 6> mine{blk.offset[0],
                                 blk.offset[1],
@@ -43,19 +51,22 @@ class FftWorkspace {
                 cart_boxes[r].lo[e] = all[6 * r + e];
                 cart_boxes[r].hi[e] = all[6 * r + 3 + e];
             }
-            a_boxes[r] = slab(split_a, r, size);
-            b_boxes[r] = slab(split_b, r, size);
+            a_boxes[r] = slab(n, split_a, r, size);
+            a_spectral[r] = slab(spectral, split_a, r, size);
+            b_boxes[r] = slab(spectral, split_b, r, size);
         }
         const int me = dec.rank();
         cart = cart_boxes[me];
-        box_a = a_boxes[me];
+        box_a = a_spectral[me];
         box_b = b_boxes[me];
         sa = padded(box_a);
         sb = padded(box_b);
+        // The block's n reals per row go to slab A's rows, which have room for the
+        // spectral row; slab A to B moves whole spectral rows.
         cart_to_a = std::make_unique<Redistribution>(dec.comm(), cart_boxes, a_boxes, nullptr, &sa);
         a_to_cart = std::make_unique<Redistribution>(dec.comm(), a_boxes, cart_boxes, &sa, nullptr);
-        a_to_b = std::make_unique<Redistribution>(dec.comm(), a_boxes, b_boxes, &sa, &sb);
-        b_to_a = std::make_unique<Redistribution>(dec.comm(), b_boxes, a_boxes, &sb, &sa);
+        a_to_b = std::make_unique<Redistribution>(dec.comm(), a_spectral, b_boxes, &sa, &sb);
+        b_to_a = std::make_unique<Redistribution>(dec.comm(), b_boxes, a_spectral, &sb, &sa);
         a = allocate(sa.plane * box_a.size()[2]);
         b = a_to_b->identity() ? a : allocate(sb.plane * box_b.size()[2]);
         c = cart_to_a->identity() ? nullptr : allocate(cart.count());
@@ -71,8 +82,10 @@ class FftWorkspace {
     const Decomposition& dec;
     int dim = 3;
     Int3 n{1, 1, 1};
+    bool complex_x = false; ///< x periodic: real-to-complex along x, complex data after it
+    Int3 spectral{1, 1, 1}; ///< points per direction after the x transform (reals)
     int split_a = 2, split_b = 1;
-    Box cart, box_a, box_b; ///< this rank's boxes (global indices)
+    Box cart, box_a, box_b; ///< this rank's boxes (global indices; A and B spectral)
     Storage sa, sb;         ///< how slabs A and B are stored (padded)
     std::unique_ptr<Redistribution> cart_to_a, a_to_cart, a_to_b, b_to_a;
     real* a = nullptr; ///< slab A
@@ -83,18 +96,27 @@ class FftWorkspace {
     /// Rows of an odd number of values and planes one cache line longer than their rows:
     /// the transforms along y and z then stride by no power of two. With power-of-two
     /// strides every point of a z transform falls in the same few cache sets (128^3,
-    /// FFTW_ESTIMATE, one core: x + y + z R2HC 37 -> 21 ms, DCT-II 55 -> 33 ms).
+    /// FFTW_ESTIMATE, one core: x + y + z R2HC 37 -> 21 ms, DCT-II 55 -> 33 ms). Complex
+    /// rows (x periodic) hold 2 (n/2 + 1) reals, an even number (a complex number must
+    /// not straddle two rows), and so their planes.
     Storage padded(const Box& box) const {
         const Int3 s = box.size();
         Storage st;
-        st.row = s[0] + (s[0] % 2 == 0 ? 1 : 0);
+        if (complex_x)
+            st.row = spectral[0];
+        else
+            st.row = s[0] + (s[0] % 2 == 0 ? 1 : 0);
         st.plane = st.row * s[1] + (dim == 3 ? 8 : 0);
         return st;
     }
-    Box slab(int split, int r, int size) const {
-        Box s{{0, 0, 0}, n};
-        s.lo[split] = int(std::int64_t(r) * n[split] / size);
-        s.hi[split] = int(std::int64_t(r + 1) * n[split] / size);
+    /// Rank r's share of `extent` split along `split`. Along a complex x the split falls
+    /// between complex numbers.
+    Box slab(const Int3& extent, int split, int r, int size) const {
+        Box s{{0, 0, 0}, extent};
+        const int unit = split == 0 && complex_x && extent[0] == spectral[0] ? 2 : 1;
+        const std::int64_t count = extent[split] / unit;
+        s.lo[split] = unit * int(std::int64_t(r) * count / size);
+        s.hi[split] = unit * int(std::int64_t(r + 1) * count / size);
         return s;
     }
     static real* allocate(std::int64_t count) {
@@ -113,6 +135,9 @@ namespace {
 
 /// Transform pair, normalisation and eigenvalues of -h^2 L along one direction.
 struct Transform {
+    /// real-to-real (FFTW's r2r kinds), real-to-complex (x, periodic) or complex (a periodic
+    /// y or z after a complex x)
+    enum class How { R2R, R2C, C2C } how = How::R2R;
     fftw_r2r_kind forward = FFTW_R2HC, backward = FFTW_HC2R;
     int first = 0;            ///< first transformed index (1 for wall faces)
     int length = 1;           ///< points transformed
@@ -122,7 +147,9 @@ struct Transform {
     std::string name;
 };
 
-Transform transform_for(const FftDirection& d, int cells, real h) {
+/// `complex_x`: x is transformed real-to-complex (the workspace's complex mode); direction
+/// `axis` of `cells` cells.
+Transform transform_for(const FftDirection& d, int axis, bool complex_x, int cells, real h) {
     Transform t;
     const int N = cells;
     const real pi = std::numbers::pi;
@@ -132,7 +159,24 @@ Transform transform_for(const FftDirection& d, int cells, real h) {
     t.length = N;
     t.norm = 2.0 * N;
     auto sin2 = [](real x) { return std::sin(x) * std::sin(x); };
-    if (d.periodic) {
+    if (d.periodic && complex_x) {
+        t.norm = N;
+        if (axis == 0) {
+            // Complex index k (reals 2k and 2k + 1) holds wavenumber k, k = 0 .. N/2.
+            t.how = Transform::How::R2C;
+            const int m = 2 * (N / 2 + 1);
+            t.lambda.assign(m, 0.0);
+            t.live.assign(m, 1);
+            for (int i = 0; i < m; ++i)
+                t.lambda[i] = w * sin2(pi * (i / 2) / N);
+            t.name = "periodic (R2C)";
+        } else {
+            t.how = Transform::How::C2C;
+            for (int k = 0; k < N; ++k)
+                t.lambda[k] = w * sin2(pi * k / N);
+            t.name = "periodic (complex DFT)";
+        }
+    } else if (d.periodic) {
         // Half-complex order: index k holds Re or Im of wavenumber min(k, N - k), whose
         // eigenvalue is the same sin^2(pi k / N).
         t.forward = FFTW_R2HC;
@@ -189,6 +233,51 @@ fftw_plan plan_along(real* data, const Box& box, const Storage& st, int d, const
     return plan;
 }
 
+/// Strides of the complex view of a real array stored as `st` (x periodic: even rows and
+/// planes), in complex numbers.
+std::array<int, 3> complex_strides(const Storage& st) {
+    return {1, int(st.row / 2), int(st.plane / 2)};
+}
+
+/// In-place real-to-complex (forward) or complex-to-real (backward) plan along x of the
+/// spectral array over `box` (x extent 2 (n/2 + 1) reals; n real points in, n/2 + 1
+/// complex out).
+fftw_plan plan_x_real_complex(real* data, const Box& box, const Storage& st, int n, bool forward) {
+    const Int3 s = box.size();
+    const std::array<int, 3> cs = complex_strides(st);
+    fftw_iodim along{n, 1, 1};
+    std::array<fftw_iodim, 2> many{};
+    // reals in, complex out (forward); complex in, reals out (backward)
+    many[0] =
+        forward ? fftw_iodim{s[2], int(st.plane), cs[2]} : fftw_iodim{s[2], cs[2], int(st.plane)};
+    many[1] = forward ? fftw_iodim{s[1], int(st.row), cs[1]} : fftw_iodim{s[1], cs[1], int(st.row)};
+    auto* z = reinterpret_cast<fftw_complex*>(data);
+    fftw_plan plan =
+        forward ? fftw_plan_guru_dft_r2c(1, &along, 2, many.data(), data, z, FFTW_ESTIMATE)
+                : fftw_plan_guru_dft_c2r(1, &along, 2, many.data(), z, data, FFTW_ESTIMATE);
+    if (!plan)
+        throw RunError("FFT solver: FFTW could not plan the real-to-complex transform along x");
+    return plan;
+}
+
+/// In-place complex plan along direction d (1 or 2) of the spectral array over `box`.
+fftw_plan plan_complex_along(real* data, const Box& box, const Storage& st, int d, int sign) {
+    const Int3 s = box.size();
+    const std::array<int, 3> cs = complex_strides(st);
+    const std::array<int, 3> count{s[0] / 2, s[1], s[2]};
+    fftw_iodim along{count[d], cs[d], cs[d]};
+    std::array<fftw_iodim, 2> many{};
+    int h = 0;
+    for (int e = 2; e >= 0; --e)
+        if (e != d) many[h++] = fftw_iodim{count[e], cs[e], cs[e]};
+    auto* z = reinterpret_cast<fftw_complex*>(data);
+    fftw_plan plan = fftw_plan_guru_dft(1, &along, 2, many.data(), z, z, sign, FFTW_ESTIMATE);
+    if (!plan)
+        throw RunError(fmt::format("FFT solver: FFTW could not plan the complex transform along {}",
+                                   "xyz"[d]));
+    return plan;
+}
+
 } // namespace
 
 struct FftSolver::Impl {
@@ -220,15 +309,27 @@ FftSolver::FftSolver(const Decomposition& dec, const std::array<FftDirection, 3>
         if (I.dirs[d].periodic != dec.periodic()[d])
             throw RunError(
                 fmt::format("FFT solver: direction {} periodic in one place only", "xyz"[d]));
-        I.t[d] = transform_for(I.dirs[d], ws.n[d], dec.grid().dx(d));
+        I.t[d] = transform_for(I.dirs[d], d, ws.complex_x, ws.n[d], dec.grid().dx(d));
         I.norm *= I.t[d].norm;
         const bool in_b = d == ws.split_a;
         const Box& box = in_b ? ws.box_b : ws.box_a;
         if (box.empty()) continue;
         real* data = in_b ? ws.b : ws.a;
         const Storage& st = in_b ? ws.sb : ws.sa;
-        I.forward[d] = plan_along(data, box, st, d, I.t[d], I.t[d].forward);
-        I.backward[d] = plan_along(data, box, st, d, I.t[d], I.t[d].backward);
+        switch (I.t[d].how) {
+        case Transform::How::R2C:
+            I.forward[d] = plan_x_real_complex(data, box, st, ws.n[0], true);
+            I.backward[d] = plan_x_real_complex(data, box, st, ws.n[0], false);
+            break;
+        case Transform::How::C2C:
+            I.forward[d] = plan_complex_along(data, box, st, d, FFTW_FORWARD);
+            I.backward[d] = plan_complex_along(data, box, st, d, FFTW_BACKWARD);
+            break;
+        case Transform::How::R2R:
+            I.forward[d] = plan_along(data, box, st, d, I.t[d], I.t[d].forward);
+            I.backward[d] = plan_along(data, box, st, d, I.t[d], I.t[d].backward);
+            break;
+        }
     }
     for (int d = ws.dim; d < 3; ++d) { // the one-cell z of a 2D run: nothing to transform
         I.t[d].lambda.assign(1, 0.0);

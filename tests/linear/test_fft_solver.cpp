@@ -181,6 +181,12 @@ std::vector<Problem> problems() {
     // Two cells along the slab split: on 3 and 4 ranks some slabs are empty.
     p.push_back({"poisson_thin_3d", Int3{12, 8, 2}, {P, closed(G, G), P}, 0.0, 1.0});
     p.push_back({"helmholtz_thin_3d", Int3{12, 8, 2}, {closed(V, G), P, faces()}, 1.0, 0.02});
+    // An odd number of cells along a periodic x: n/2 + 1 complex numbers per row hold one
+    // real more than the row (the Nyquist wavenumber is absent).
+    p.push_back({"poisson_periodic_odd_x_3d", Int3{9, 8, 6}, {P, P, P}, 0.0, 1.0});
+    p.push_back({"helmholtz_odd_x_walls_3d", Int3{9, 7, 6}, {P, closed(G, G), faces()}, 1.0, 0.02});
+    p.push_back({"poisson_periodic_odd_x_2d", Int3{9, 8, 1}, {P, P, P}, 0.0, 1.0});
+    p.push_back({"helmholtz_odd_x_channel_2d", Int3{11, 6, 1}, {P, faces(), P}, 1.0, 0.1});
     p.push_back({"poisson_periodic_2d", n2, {P, P, P}, 0.0, 1.0});
     p.push_back({"poisson_neumann_2d", n2, {closed(G, G), closed(G, G), P}, 0.0, 1.0});
     p.push_back({"poisson_channel_2d", n2, {P, closed(G, G), P}, 0.0, 1.0});
