@@ -31,10 +31,21 @@ class FftWorkspace {
         complex_x = dec.periodic()[0];
         spectral = n;
         if (complex_x) spectral[0] = 2 * (n[0] / 2 + 1);
-        // Slab A is split along the last direction (z in 3D, y in 2D), slab B along the
-        // one before it; each keeps the other directions whole.
+        // With a complex x and a wall direction, that direction is not transformed but
+        // solved as a tridiagonal system per wavenumber of the others (as CaNS does): y if
+        // it has walls, else z. Its slab must hold it whole.
+        if (complex_x) {
+            if (dim >= 2 && !dec.periodic()[1])
+                tri = 1;
+            else if (dim == 3 && !dec.periodic()[2])
+                tri = 2;
+        }
+        // Slab A is split along the last direction (z in 3D, y in 2D); slab B along the one
+        // before it, or along x when a direction is solved as tridiagonal systems (slab A
+        // then transforms x alone, slab B everything else); each keeps the other directions
+        // whole.
         split_a = dim - 1;
-        split_b = dim - 2;
+        split_b = tri >= 0 ? 0 : dim - 2;
         const int size = dec.size();
         std::vector<Box> cart_boxes(size), a_boxes(size), a_spectral(size), b_boxes(size);
         const LocalBlock& blk = dec.block();
@@ -83,6 +94,7 @@ class FftWorkspace {
     int dim = 3;
     Int3 n{1, 1, 1};
     bool complex_x = false; ///< x periodic: real-to-complex along x, complex data after it
+    int tri = -1;           ///< the direction solved as tridiagonal systems (-1: none)
     Int3 spectral{1, 1, 1}; ///< points per direction after the x transform (reals)
     int split_a = 2, split_b = 1;
     Box cart, box_a, box_b; ///< this rank's boxes (global indices; A and B spectral)
@@ -97,13 +109,14 @@ class FftWorkspace {
     /// the transforms along y and z then stride by no power of two. With power-of-two
     /// strides every point of a z transform falls in the same few cache sets (128^3,
     /// FFTW_ESTIMATE, one core: x + y + z R2HC 37 -> 21 ms, DCT-II 55 -> 33 ms). Complex
-    /// rows (x periodic) hold 2 (n/2 + 1) reals, an even number (a complex number must
-    /// not straddle two rows), and so their planes.
+    /// rows (x periodic) hold an even number of reals (a complex number must not straddle
+    /// two rows; a slab's share of x is whole complex numbers), two more where that number
+    /// is a multiple of 8; their planes are even too.
     Storage padded(const Box& box) const {
         const Int3 s = box.size();
         Storage st;
         if (complex_x)
-            st.row = spectral[0];
+            st.row = s[0] + (s[0] % 8 == 0 ? 2 : 0);
         else
             st.row = s[0] + (s[0] % 2 == 0 ? 1 : 0);
         st.plane = st.row * s[1] + (dim == 3 ? 8 : 0);
@@ -288,6 +301,10 @@ struct FftSolver::Impl {
     real norm = 1;
     real alpha = 0, beta = 1;
     PhaseSeconds seconds;
+    std::array<bool, 3> in_b{}; ///< transformed in slab B (else in slab A)
+    std::vector<real> work;     ///< the tridiagonal solve's modified upper diagonal
+
+    void tridiagonal();
 
     ~Impl() {
         for (int d = 0; d < 3; ++d) {
@@ -310,8 +327,13 @@ FftSolver::FftSolver(const Decomposition& dec, const std::array<FftDirection, 3>
             throw RunError(
                 fmt::format("FFT solver: direction {} periodic in one place only", "xyz"[d]));
         I.t[d] = transform_for(I.dirs[d], d, ws.complex_x, ws.n[d], dec.grid().dx(d));
+        const bool in_b = ws.tri >= 0 ? d != 0 : d == ws.split_a;
+        I.in_b[d] = in_b;
+        if (d == ws.tri) {
+            I.t[d].name = fmt::format("{}, tridiagonal", I.t[d].name);
+            continue; // solved, not transformed
+        }
         I.norm *= I.t[d].norm;
-        const bool in_b = d == ws.split_a;
         const Box& box = in_b ? ws.box_b : ws.box_a;
         if (box.empty()) continue;
         real* data = in_b ? ws.b : ws.a;
@@ -373,6 +395,88 @@ class PhaseClock {
 };
 } // namespace
 
+// Along the tridiagonal direction T (held whole by slab B) each wavenumber pair of the
+// other directions leaves (alpha + beta lambda) u_j - beta (u_{j+1} - 2 u_j + u_{j-1}) / h^2
+// = f_j, lambda the other directions' eigenvalue, closed at each end by its ghost rule
+// (ghost = s u at the end cell: s = 1 zero gradient, -1 zero value; wall faces: the unknowns
+// are the faces 1 .. N-1 between the fixed faces 0 and N, whose values are zero here). The
+// Thomas algorithm runs along T with the x index innermost (unit stride). The operator is
+// singular only for alpha = 0, lambda = 0 and zero gradient at both ends: that line is
+// solved with its last value set to zero and then shifted to zero mean, which is the
+// transforms' zero mode set to zero.
+void FftSolver::Impl::tridiagonal() {
+    FftWorkspace& W = *ws;
+    const Box& bb = W.box_b;
+    if (bb.empty()) return;
+    const int T = W.tri;
+    const int q = T == 1 ? 2 : 1; // the other direction besides x
+    const Int3 sz = bb.size();
+    const std::array<std::ptrdiff_t, 3> stride{1, W.sb.row, W.sb.plane};
+    const int N = sz[T], nx = sz[0];
+    const FftDirection& dir = dirs[T];
+    const real hT = W.dec.grid().dx(T);
+    const real g = beta / (hT * hT);
+    const int first = dir.wall_faces ? 1 : 0;
+    auto side = [&](FftSide sd) {
+        return dir.wall_faces ? 0.0 : sd == FftSide::ZeroGradient ? 1.0 : -1.0;
+    };
+    const real s_lo = side(dir.low), s_hi = side(dir.high);
+    const bool neumann = s_lo == 1.0 && s_hi == 1.0;
+    const real inv_norm = 1.0 / norm;
+    const auto& l0 = t[0].lambda;
+    work.resize(std::size_t(N) * std::size_t(nx));
+    for (int kq = bb.lo[q]; kq < bb.hi[q]; ++kq) {
+        real* base = W.b + std::ptrdiff_t(kq - bb.lo[q]) * stride[q];
+        if (!t[q].live[kq] || N <= first) {
+            for (int j = 0; j < N; ++j)
+                std::fill(base + j * stride[T], base + j * stride[T] + nx, 0.0);
+            continue;
+        }
+        const real lq = t[q].lambda[kq];
+        if (first == 1) std::fill(base, base + nx, 0.0); // the fixed wall face
+        // forward elimination
+        for (int j = first; j < N; ++j) {
+            real* row = base + j * stride[T];
+            const real e = g * (2.0 - (j == first ? s_lo : 0.0) - (j == N - 1 ? s_hi : 0.0));
+            real* cp = work.data() + std::size_t(j) * nx;
+            if (j == first) {
+                for (int i = 0; i < nx; ++i) {
+                    const real den = alpha + beta * (l0[bb.lo[0] + i] + lq) + e;
+                    cp[i] = den != 0 ? -g / den : 0.0;
+                    row[i] = den != 0 ? row[i] * inv_norm / den : 0.0;
+                }
+            } else {
+                const real* prev = row - stride[T];
+                const real* cprev = cp - nx;
+                for (int i = 0; i < nx; ++i) {
+                    const real den = alpha + beta * (l0[bb.lo[0] + i] + lq) + e + g * cprev[i];
+                    cp[i] = den != 0 ? -g / den : 0.0;
+                    row[i] = den != 0 ? (row[i] * inv_norm + g * prev[i]) / den : 0.0;
+                }
+            }
+        }
+        // back substitution
+        for (int j = N - 2; j >= first; --j) {
+            real* row = base + j * stride[T];
+            const real* next = row + stride[T];
+            const real* cp = work.data() + std::size_t(j) * nx;
+            for (int i = 0; i < nx; ++i)
+                row[i] -= cp[i] * next[i];
+        }
+        // The singular line (its last pivot is zero: the value there came out as 0): zero mean.
+        if (neumann && alpha == 0 && lq == 0)
+            for (int i = 0; i < nx; ++i) {
+                if (l0[bb.lo[0] + i] != 0) continue;
+                real mean = 0;
+                for (int j = 0; j < N; ++j)
+                    mean += base[j * stride[T] + i];
+                mean /= N;
+                for (int j = 0; j < N; ++j)
+                    base[j * stride[T] + i] -= mean;
+            }
+    }
+}
+
 SolveReport FftSolver::solve(const Field& rhs, Field& x) {
     Impl& I = *impl_;
     FftWorkspace& ws = *I.ws;
@@ -392,14 +496,16 @@ SolveReport FftSolver::solve(const Field& rhs, Field& x) {
     if (ws.c) ws.cart_to_a->run(ws.c, ws.a);
     clock.lap(sec.redistribution);
     for (int d = 0; d < ws.dim; ++d)
-        if (d != ws.split_a && I.forward[d]) fftw_execute(I.forward[d]);
+        if (!I.in_b[d] && I.forward[d]) fftw_execute(I.forward[d]);
     clock.lap(sec.transforms);
     if (ws.b != ws.a) ws.a_to_b->run(ws.a, ws.b);
     clock.lap(sec.redistribution);
-    const int s = ws.split_a;
-    if (I.forward[s]) fftw_execute(I.forward[s]);
+    for (int d = 0; d < ws.dim; ++d)
+        if (I.in_b[d] && I.forward[d]) fftw_execute(I.forward[d]);
     clock.lap(sec.transforms);
-    {
+    if (ws.tri >= 0)
+        I.tridiagonal();
+    else {
         // Divide by the eigenvalues (and the transforms' normalisation); the zero mode of
         // a singular operator and the fixed wall faces are set to zero.
         const Box& bb = ws.box_b;
@@ -419,12 +525,13 @@ SolveReport FftSolver::solve(const Field& rhs, Field& x) {
             }
     }
     clock.lap(sec.divide);
-    if (I.backward[s]) fftw_execute(I.backward[s]);
+    for (int d = ws.dim - 1; d >= 0; --d)
+        if (I.in_b[d] && I.backward[d]) fftw_execute(I.backward[d]);
     clock.lap(sec.transforms);
     if (ws.b != ws.a) ws.b_to_a->run(ws.b, ws.a);
     clock.lap(sec.redistribution);
     for (int d = ws.dim - 1; d >= 0; --d)
-        if (d != ws.split_a && I.backward[d]) fftw_execute(I.backward[d]);
+        if (!I.in_b[d] && I.backward[d]) fftw_execute(I.backward[d]);
     clock.lap(sec.transforms);
     if (ws.c) ws.a_to_cart->run(ws.a, ws.c);
     clock.lap(sec.redistribution);

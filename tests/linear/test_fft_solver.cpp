@@ -177,6 +177,13 @@ std::vector<Problem> problems() {
             {"helmholtz_faces_3d_" + lay, n3, {faces(), closed(G, G), P}, 1.0, 0.03, ranks});
         p.push_back(
             {"helmholtz_faces_y_3d_" + lay, n3, {P, faces(), closed(V, G)}, 1.0, 0.03, ranks});
+        // x periodic, walls in y (and z): y solved as tridiagonal systems per wavenumber;
+        // y periodic, walls in z: z solved so (the singular Poisson line included).
+        p.push_back({"poisson_channel_3d_" + lay, n3, {P, closed(G, G), P}, 0.0, 1.0, ranks});
+        p.push_back(
+            {"poisson_duct_3d_" + lay, n3, {P, closed(G, G), closed(G, G)}, 0.0, 1.0, ranks});
+        p.push_back({"poisson_z_walls_3d_" + lay, n3, {P, P, closed(G, G)}, 0.0, 1.0, ranks});
+        p.push_back({"helmholtz_z_faces_3d_" + lay, n3, {P, P, faces()}, 1.0, 0.04, ranks});
     }
     // Two cells along the slab split: on 3 and 4 ranks some slabs are empty.
     p.push_back({"poisson_thin_3d", Int3{12, 8, 2}, {P, closed(G, G), P}, 0.0, 1.0});
