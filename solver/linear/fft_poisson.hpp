@@ -16,10 +16,17 @@
 // With alpha = 0 and no zero-value closure the operator is singular; the zero mode of
 // the solution is then set to zero (the caller makes the right-hand side zero-mean).
 //
+// With x periodic, x is transformed real-to-complex and the other periodic directions by
+// complex DFTs (FFTW's vectorised codelets; its R2HC and DCT/DST kinds are scalar), and a
+// wall direction (y, else z) is not transformed at all: each wavenumber pair of the other
+// directions leaves a tridiagonal system along it, solved by the Thomas algorithm (the
+// approach of CaNS, Costa 2018). The answer is the same discrete solution either way.
+//
 // Under MPI the data goes from the Decomposition's Cartesian blocks to slabs (split along
 // the last direction) for the transforms in the other directions, then to slabs split
-// along another direction for the transform in the last one (parallel/redistribution.hpp).
-// linear/fft_poisson.cpp is the only file that includes FFTW.
+// along another direction for the transform in the last one (parallel/redistribution.hpp);
+// with a tridiagonal direction the first slabs transform x alone and the second, split
+// along x, everything else. linear/fft_poisson.cpp is the only file that includes FFTW.
 #pragma once
 
 #include "core/types.hpp"
