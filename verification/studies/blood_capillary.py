@@ -35,7 +35,8 @@ Metrics (result.json):
 - `t_end_ms_<run>`, `reached_end_<run>`: the time each run reached and whether it was the
   asked end (a run that stops UNSTABLE is measured up to there and breaks the bound);
 - `seconds_per_ms_physical`: wall seconds of the run with cells per ms of physical time,
-  with `ranks` and the load in the table;
+  with `ranks` and the load in the table; `seconds_per_ms_physical_2ranks`: the same scene on
+  two ranks over its first TWO_RANK_MS (quick and full tiers; set-up included in both);
 - `rate_*` (runs on one rank only): the bytes and seconds per cell and per body patch cell
   that `efsi check` estimates a run's memory and cost with (estimate_rates below;
   solver/simulation/run_estimate.cpp holds them, docs/performance.md shows them).
@@ -74,6 +75,8 @@ from _flowio import cached_run
 
 DESCRIPTION = "blood in a capillary: Ht, apparent viscosity, cell-free layer, platelets, overlap"
 
+# Physical time [ms] of the two-rank timing run (quick and full tiers).
+TWO_RANK_MS = 0.5
 TIERS = {"ci": {"steps": 3, "t_end": None, "fields": 0, "tube_end": None},
          "quick": {"steps": None, "t_end": 0.5, "fields": 0.125, "tube_end": 2.0},
          "full": {"steps": None, "t_end": 3.0, "fields": 0.25, "tube_end": 10.0}}
@@ -440,6 +443,14 @@ def run(ctx):
             cached_run(ctx, case, out[key], {**sets, **extra}, tier["t_end"],
                        ranks=ctx.long_ranks, allow_unstable=True)
         summary[key] = json.loads((out[key] / "summary.json").read_text())
+    # The cost on two ranks (issue 20 asks for it): the scene with cells over its first
+    # TWO_RANK_MS, its own cached run (the study's other runs keep EFSI_VERIFY_RANKS ranks).
+    if tier["t_end"] is not None:
+        out["cells_2ranks"] = run_dir / "cells_2ranks"
+        cached_run(ctx, runs["cells"], out["cells_2ranks"],
+                   {**sets, "time.end_time": repr(TWO_RANK_MS), "output.fields_interval": "0"},
+                   TWO_RANK_MS, ranks=2, allow_unstable=True)
+        summary["cells_2ranks"] = json.loads((out["cells_2ranks"] / "summary.json").read_text())
     tube_out = run_dir / "tube"
     tube_case = ctx.repo / "cases" / "rbc_in_tube"
     if tier["tube_end"] is None:
@@ -465,6 +476,9 @@ def run(ctx):
     metrics["max_body_overlap"] = max(overlap(p) for k in ("cells", "platelets")
                                       for p in snaps[k])
     metrics["seconds_per_ms_physical"] = float(summary["cells"]["wall_seconds"]) / t_end
+    if "cells_2ranks" in summary:
+        s2 = summary["cells_2ranks"]
+        metrics["seconds_per_ms_physical_2ranks"] = float(s2["wall_seconds"]) / float(s2["time"])
     late = {k: [p for p in snaps[k] if snapshot_time(p) >= half - 1e-9] or snaps[k][-1:]
             for k in runs}
     q = {k: float(np.mean([flow_rate(p, h) for p in late[k]])) for k in runs}
@@ -484,9 +498,9 @@ def run(ctx):
              "steps": summary[k]["steps"], "ranks": summary[k]["ranks"],
              "wall [s]": round(float(summary[k]["wall_seconds"]), 1),
              "load before": summary[k].get("load_before"),
-             "flow rate [um^3/ms]": round(q[k], 2),
-             "bodies": len(summary[k].get("bodies", []))} for k in runs]
-    metrics.update(estimate_rates(summary))
+             "flow rate [um^3/ms]": round(q[k], 2) if k in q else "-",
+             "bodies": len(summary[k].get("bodies", []))} for k in summary]
+    metrics.update(estimate_rates({k: summary[k] for k in runs}))
     h_tube = TUBE_LENGTH / int(tube_summary["grid"][0])
     tube, tube_series = tube_metrics(tube_out, tube_summary, h_tube)
     if tier["tube_end"] is None:  # ci: the machinery only
