@@ -5,12 +5,16 @@ peak memory per cell, and a STREAM triad (with the flow sweeps) measured in the 
 Issue 22's metric names: cell_updates_per_second_1rank_128, triad_bytes_per_second,
 bytes_per_cell_update, pressure_share, viscous_share, speedup_2ranks, bytes_per_cell. The
 older names (cell_updates_per_second_np<r>, pressure_fraction_np<r>, speedup_np2,
-seconds_per_step_np<r>) are kept: the pages and the stored result use them."""
+seconds_per_step_np<r>) are kept: the pages and the stored result use them. The direct
+pressure solve alone (build/bin/efsi_fft_solve_ranks, periodic and with walls in y, 1 and 2
+ranks): fft_solve_ms_<periodic|walls>_np<r> and fft_redistribution_ms_... (the slowest
+rank's time in the slab transposes), table fft_solve."""
 from __future__ import annotations
 
 import json
 import os
 import platform
+import re
 
 from _bounds import Bound  # noqa: E402
 
@@ -123,6 +127,11 @@ def run(ctx):
             k["fraction_of_triad"] = k["bytes_per_second"] / triad["bytes_per_second"]
             name = k["kernel"].removeprefix("BM_").split("/")[0]
             metrics[f"kernel_triad_fraction_{name}"] = k["fraction_of_triad"]
+    fft = fft_solves(ctx, n)
+    for f in fft:
+        tag = f"{'walls' if f['walls'] else 'periodic'}_np{f['ranks']}"
+        metrics[f"fft_solve_ms_{tag}"] = f["ms_per_solve"]
+        metrics[f"fft_redistribution_ms_{tag}"] = f["redistribution"]
     load_after = os.getloadavg()
     # The machine's state as measured, never assumed: "idle" only when the 1-minute load
     # before the runs was below half a core (after them it includes the runs themselves).
@@ -157,8 +166,35 @@ def run(ctx):
         f"{load_after[0]:.2f} (the runs themselves raise it; other jobs lower and scatter the "
         "figures, and a loaded machine hurts the 2-rank run most).")
     return {"metrics": metrics, "tables": {"best": rows, "all_runs": all_runs, "stages": stage_table,
-                                           "kernels": kernels, "machine": machine},
+                                           "kernels": kernels, "fft_solve": fft,
+                                           "machine": machine},
             "notes": notes}
+
+
+FFT_SOLVES = 30
+_FFT_LINE = re.compile(r"on (\d+) rank\(s\) \((.*)\): ([0-9.]+) ms per solve; slowest rank per "
+                       r"phase: copy ([0-9.]+), transforms ([0-9.]+), redistribution ([0-9.]+), "
+                       r"divide ([0-9.]+) ms")
+
+
+def fft_solves(ctx, n: int) -> list[dict]:
+    """The direct pressure solve alone (benchmarks/fft_solve_ranks.cpp) at n^3, periodic and
+    with walls in y, on 1 and 2 ranks: ms per solve and per phase (the slowest rank's)."""
+    exe = ctx.efsi.parent / "efsi_fft_solve_ranks"
+    if not exe.exists():
+        exe = ctx.repo / "build" / "bin" / "efsi_fft_solve_ranks"
+    out = []
+    for walls in (0, 1):
+        for r in RANKS:
+            res = ctx.run([str(exe), str(n), str(walls), str(FFT_SOLVES)], ranks=r)
+            m = _FFT_LINE.search(res.stdout)
+            if not m:
+                raise RuntimeError(f"efsi_fft_solve_ranks printed no timing: {res.stdout!r}")
+            out.append({"walls": walls, "ranks": int(m[1]), "transforms": m[2],
+                        "ms_per_solve": float(m[3]), "copy": float(m[4]),
+                        "transforms_ms": float(m[5]), "redistribution": float(m[6]),
+                        "divide": float(m[7])})
+    return out
 
 
 # The triad and the sweeps in one benchmark process (n^3 sweeps; the triad's arrays are
