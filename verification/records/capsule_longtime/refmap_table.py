@@ -11,7 +11,8 @@ its error, the largest |D - D_ref| over the reference curve's full range
 the reference-area drift, and the wall time per unit of shear-rate x t with the rank count
 (the machine's load is in each record.json; the runs shared the 2 cores, so it is loose).
 "reference_map" records before session 18 extend the map with the trilinear interpolant
-(`map_interpolation = "linear"`); those with suffix `_cubic` use the cubic default.
+(`map_interpolation = "linear"`; suffix `_linear` where a later record took the plain name);
+those with suffix `_cubic` use the cubic default.
 docs/method.md quotes its output (section "The reference map").
 """
 import sys
@@ -36,8 +37,8 @@ RUNS = [
     ("ca0.05_n64_bend0.01_t5_refmap", "reference_map", 0.05, "neo_hookean", None),
     ("ca0.025_n64_skalak_C10_t2_refmap", "reference_map", 0.025, "skalak", 10.0),
     ("ca0.1_n64_t20", "reference_map", 0.1, "neo_hookean", None),
-    ("ca0.025_n64_t20", "reference_map", 0.025, "neo_hookean", None),
-    ("ca0.0125_n64_t20", "reference_map", 0.0125, "neo_hookean", None),
+    ("ca0.025_n64_t20_linear", "reference_map", 0.025, "neo_hookean", None),
+    ("ca0.0125_n64_t20_linear", "reference_map", 0.0125, "neo_hookean", None),
     ("ca0.05_n64_bend0.01_t20", "reference_map", 0.05, "neo_hookean", None),
     ("ca0.05_n32_t10", "reference_map", 0.05, "neo_hookean", None),
     ("ca0.2_n32_t10", "reference_map", 0.2, "neo_hookean", None),
@@ -66,6 +67,9 @@ RUNS = [
     ("ca0.05_n32_t10_w075", "reference_map, cubic, eps 0.75", 0.05, "neo_hookean", None),
     ("ca0.2_n32_t10_w075", "reference_map, cubic, eps 0.75", 0.2, "neo_hookean", None),
     ("ca0.2_n128_t6_w075", "reference_map, cubic, eps 0.75", 0.2, "neo_hookean", None),
+    # the capsule_longtime study's own runs with the cases' width since session 22
+    ("ca0.0125_n64_t20", "reference_map, cubic, eps 0.75", 0.0125, "neo_hookean", None),
+    ("ca0.025_n64_t20", "reference_map, cubic, eps 0.75", 0.025, "neo_hookean", None),
     # the same capsule in a box twice as large (16 a, walls at y = -8 / +8 moving at -8 / +8):
     # the confinement's share of D (docs/method.md)
     ("ca0.2_n64_box16_t6", "reference_map, cubic, eps 0.75, box 16 a", 0.2, "neo_hookean",
