@@ -8,6 +8,7 @@
 #include "parallel/decomposition.hpp"
 
 #include "bench_grid.hpp"
+#include "fft_problem.hpp"
 
 #include <benchmark/benchmark.h>
 #include <mpi.h>
@@ -70,25 +71,12 @@ void BM_PressureSolve(benchmark::State& state) {
 }
 BENCHMARK(BM_PressureSolve)->Arg(32)->Arg(64)->Unit(benchmark::kMillisecond);
 
-/// The direct solve of the same periodic problem, and of a channel (walls in y: DCT-II).
+/// The direct solve of the same periodic problem, and of a channel (walls in y).
 void BM_FftPressureSolve(benchmark::State& state) {
-    const int n = int(state.range(0));
-    const bool walls = state.range(1) != 0;
-    const Bool3 periodic{true, !walls, true};
-    Decomposition dec(MPI_COMM_WORLD, cube(n), periodic);
-    std::array<FftDirection, 3> dirs{};
-    for (int d = 0; d < 3; ++d)
-        dirs[d].periodic = periodic[d];
-    FftSolver solver(dec, dirs);
-    solver.set_coefficients(0.0, 1.0);
-    Field rhs("rhs", Location::Cell, dec.block(), 3), x("x", Location::Cell, dec.block(), 3);
-    for_each_cell(dec.block().cells, [&](int i, int j, int k) {
-        rhs(i, j, k) =
-            std::sin(2 * M_PI * i / n) * std::cos(2 * M_PI * j / n) * std::cos(2 * M_PI * k / n);
-    });
+    bench::FftPressureProblem prob(int(state.range(0)), state.range(1) != 0);
     for (auto _ : state)
-        solver.solve(rhs, x);
-    state.SetItemsProcessed(state.iterations() * dec.block().count());
+        prob.solver.solve(prob.rhs, prob.x);
+    state.SetItemsProcessed(state.iterations() * prob.dec.block().count());
 }
 BENCHMARK(BM_FftPressureSolve)
     ->ArgsProduct({{32, 64, 128}, {0, 1}})

@@ -2,19 +2,15 @@
 // (Google Benchmark picks its iteration count per process, which deadlocks a collective
 // solve under mpirun). Prints the slowest rank's time per solve.
 // Run: mpirun -np P build/bin/efsi_fft_solve_ranks [cells per direction] [walls 0|1] [solves]
-#include "linear/fft_poisson.hpp"
 #include "linear/structured_solver.hpp"
-#include "parallel/decomposition.hpp"
 
-#include "bench_grid.hpp"
+#include "fft_problem.hpp"
 
 #include <fmt/core.h>
 #include <mpi.h>
 
 #include <array>
-#include <cmath>
 #include <cstdlib>
-#include <numbers>
 
 using namespace efsi;
 
@@ -25,20 +21,10 @@ int main(int argc, char** argv) {
         const int n = argc > 1 ? std::atoi(argv[1]) : 128;
         const bool walls = argc > 2 && std::atoi(argv[2]) != 0;
         const int solves = argc > 3 ? std::atoi(argv[3]) : 20;
-        const Bool3 periodic{true, !walls, true};
-        Decomposition dec(MPI_COMM_WORLD, bench::cube(n), periodic);
-        std::array<FftDirection, 3> dirs{};
-        for (int d = 0; d < 3; ++d)
-            dirs[d].periodic = periodic[d];
-        FftSolver solver(dec, dirs);
-        solver.set_coefficients(0.0, 1.0);
-        Field rhs("rhs", Location::Cell, dec.block(), 3), x("x", Location::Cell, dec.block(), 3);
-        const real pi = std::numbers::pi;
-        const Int3 o = dec.block().offset;
-        for_each_cell(dec.block().cells, [&](int i, int j, int k) {
-            rhs(i, j, k) = std::sin(2 * pi * (i + o[0]) / n) * std::cos(2 * pi * (j + o[1]) / n) *
-                           std::cos(2 * pi * (k + o[2]) / n);
-        });
+        bench::FftPressureProblem prob(n, walls);
+        FftSolver& solver = prob.solver;
+        const Decomposition& dec = prob.dec;
+        Field &rhs = prob.rhs, &x = prob.x;
         for (int s = 0; s < 3; ++s) // warm-up: first-touch of the buffers
             solver.solve(rhs, x);
         MPI_Barrier(MPI_COMM_WORLD);
