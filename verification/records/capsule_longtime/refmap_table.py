@@ -36,7 +36,7 @@ RUNS = [
     ("ca0.0125_n64_t5_refmap", "reference_map", 0.0125, "neo_hookean", None),
     ("ca0.05_n64_bend0.01_t5_refmap", "reference_map", 0.05, "neo_hookean", None),
     ("ca0.025_n64_skalak_C10_t2_refmap", "reference_map", 0.025, "skalak", 10.0),
-    ("ca0.1_n64_t20", "reference_map", 0.1, "neo_hookean", None),
+    ("ca0.1_n64_t20_linear", "reference_map", 0.1, "neo_hookean", None),
     ("ca0.025_n64_t20_linear", "reference_map", 0.025, "neo_hookean", None),
     ("ca0.0125_n64_t20_linear", "reference_map", 0.0125, "neo_hookean", None),
     ("ca0.05_n64_bend0.01_t20", "reference_map", 0.05, "neo_hookean", None),
@@ -70,6 +70,9 @@ RUNS = [
     # the capsule_longtime study's own runs with the cases' width since session 22
     ("ca0.0125_n64_t20", "reference_map, cubic, eps 0.75", 0.0125, "neo_hookean", None),
     ("ca0.025_n64_t20", "reference_map, cubic, eps 0.75", 0.025, "neo_hookean", None),
+    ("ca0.05_n64_t20", "reference_map, cubic, eps 0.75", 0.05, "neo_hookean", None),
+    ("ca0.1_n64_t20", "reference_map, cubic, eps 0.75", 0.1, "neo_hookean", None),
+    ("ca0.2_n64_t20", "reference_map, cubic, eps 0.75", 0.2, "neo_hookean", None),
     # the same capsule in a box twice as large (16 a, walls at y = -8 / +8 moving at -8 / +8):
     # the confinement's share of D (docs/method.md)
     ("ca0.2_n64_box16_t6", "reference_map, cubic, eps 0.75, box 16 a", 0.2, "neo_hookean",
