@@ -303,6 +303,7 @@ struct FftSolver::Impl {
     PhaseSeconds seconds;
     std::array<bool, 3> in_b{}; ///< transformed in slab B (else in slab A)
     std::vector<real> work;     ///< the tridiagonal solve's modified upper diagonal
+    std::vector<real> zero;     ///< a zero row (the one before the first)
 
     void tridiagonal();
 
@@ -425,6 +426,7 @@ void FftSolver::Impl::tridiagonal() {
     const real inv_norm = 1.0 / norm;
     const auto& l0 = t[0].lambda;
     work.resize(std::size_t(N) * std::size_t(nx));
+    zero.resize(std::size_t(nx));
     for (int kq = bb.lo[q]; kq < bb.hi[q]; ++kq) {
         real* base = W.b + std::ptrdiff_t(kq - bb.lo[q]) * stride[q];
         if (!t[q].live[kq] || N <= first) {
@@ -434,25 +436,17 @@ void FftSolver::Impl::tridiagonal() {
         }
         const real lq = t[q].lambda[kq];
         if (first == 1) std::fill(base, base + nx, 0.0); // the fixed wall face
-        // forward elimination
+        // forward elimination (the row before the first is zero: no coupling there)
         for (int j = first; j < N; ++j) {
             real* row = base + j * stride[T];
             const real e = g * (2.0 - (j == first ? s_lo : 0.0) - (j == N - 1 ? s_hi : 0.0));
             real* cp = work.data() + std::size_t(j) * nx;
-            if (j == first) {
-                for (int i = 0; i < nx; ++i) {
-                    const real den = alpha + beta * (l0[bb.lo[0] + i] + lq) + e;
-                    cp[i] = den != 0 ? -g / den : 0.0;
-                    row[i] = den != 0 ? row[i] * inv_norm / den : 0.0;
-                }
-            } else {
-                const real* prev = row - stride[T];
-                const real* cprev = cp - nx;
-                for (int i = 0; i < nx; ++i) {
-                    const real den = alpha + beta * (l0[bb.lo[0] + i] + lq) + e + g * cprev[i];
-                    cp[i] = den != 0 ? -g / den : 0.0;
-                    row[i] = den != 0 ? (row[i] * inv_norm + g * prev[i]) / den : 0.0;
-                }
+            const real* prev = j == first ? zero.data() : row - stride[T];
+            const real* cprev = j == first ? zero.data() : cp - nx;
+            for (int i = 0; i < nx; ++i) {
+                const real den = alpha + beta * (l0[bb.lo[0] + i] + lq) + e + g * cprev[i];
+                cp[i] = den != 0 ? -g / den : 0.0;
+                row[i] = den != 0 ? (row[i] * inv_norm + g * prev[i]) / den : 0.0;
             }
         }
         // back substitution
