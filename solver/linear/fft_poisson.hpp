@@ -26,7 +26,11 @@
 // the last direction) for the transforms in the other directions, then to slabs split
 // along another direction for the transform in the last one (parallel/redistribution.hpp);
 // with a tridiagonal direction the first slabs transform x alone and the second, split
-// along x, everything else. linear/fft_poisson.cpp is the only file that includes FFTW.
+// along x, everything else. Periodic in all three directions on several ranks, z (along
+// which the first slabs are split) is not transformed but solved as cyclic tridiagonal
+// systems split over the ranks, joined by a reduced system of one unknown per rank and
+// line (one small all-gather instead of two transposes of the whole array).
+// linear/fft_poisson.cpp is the only file that includes FFTW.
 #pragma once
 
 #include "core/types.hpp"
