@@ -321,6 +321,7 @@ struct FftSolver::Impl {
 
     void tridiagonal();
     void distributed_tridiagonal();
+    void shift_singular_lines_to_zero_mean();
 
     ~Impl() {
         for (int d = 0; d < 3; ++d) {
@@ -454,6 +455,17 @@ void FftSolver::Impl::tridiagonal() {
         }
         const real lq = t[q].lambda[kq];
         if (first == 1) std::fill(base, base + nx, 0.0); // the fixed wall face
+        // The singular line: its right-hand side's mean (the zero mode) is dropped.
+        if (neumann && alpha == 0 && lq == 0)
+            for (int i = 0; i < nx; ++i) {
+                if (l0[bb.lo[0] + i] != 0) continue;
+                real mean = 0;
+                for (int j = 0; j < N; ++j)
+                    mean += base[j * stride[T] + i];
+                mean /= N;
+                for (int j = 0; j < N; ++j)
+                    base[j * stride[T] + i] -= mean;
+            }
         // forward elimination (the row before the first is zero: no coupling there)
         for (int j = first; j < N; ++j) {
             real* row = base + j * stride[T];
@@ -526,6 +538,27 @@ void solve_cyclic(int P, const real* a, const real* d, const real* c, const real
 }
 } // namespace
 
+// With alpha = 0 the lines whose other wavenumbers are both zero are singular along z: each
+// is shifted to zero mean over all its rows (all ranks).
+void FftSolver::Impl::shift_singular_lines_to_zero_mean() {
+    FftWorkspace& W = *ws;
+    const Box& bb = W.box_b;
+    const Int3 sz = bb.size();
+    std::vector<std::ptrdiff_t> lines; // offsets of the singular lines' first rows
+    for (int j = 0; j < sz[1]; ++j)
+        for (int i = 0; i < sz[0]; ++i)
+            if (t[0].lambda[bb.lo[0] + i] + t[1].lambda[bb.lo[1] + j] == 0)
+                lines.push_back(j * W.sb.row + i);
+    std::vector<real> sums(lines.size(), 0.0);
+    for (std::size_t s = 0; s < lines.size(); ++s)
+        for (int k = 0; k < sz[2]; ++k)
+            sums[s] += W.b[lines[s] + k * W.sb.plane];
+    MPI_Allreduce(MPI_IN_PLACE, sums.data(), int(sums.size()), mpi_real(), MPI_SUM, W.dec.comm());
+    for (std::size_t s = 0; s < lines.size(); ++s)
+        for (int k = 0; k < sz[2]; ++k)
+            W.b[lines[s] + k * W.sb.plane] -= sums[s] / real(W.n[2]);
+}
+
 // z periodic and split over the ranks (slab B is slab A: x and y whole on every rank). Each
 // line (a wavenumber of x and of y) is a cyclic tridiagonal system along z,
 //   D u_k - g (u_{k-1} + u_{k+1}) = f_k,   D = alpha + beta (lambda_x + lambda_y) + 2 g,
@@ -578,6 +611,9 @@ void FftSolver::Impl::distributed_tridiagonal() {
         for (int i = 0; i < nx; ++i)
             diag[i] = alpha + beta * (l0[bb.lo[0] + i] + l1[gj]) + 2 * g;
     };
+    // The singular line(s): the right-hand side's mean over all ranks (the zero mode) is
+    // dropped, so that the reduced system is consistent.
+    if (alpha == 0) shift_singular_lines_to_zero_mean();
     // 1. y = T'^-1 f on rows 0 .. n-1 (Thomas), the line ends to send, p's ends. One y index
     // at a time: its lines (n x nx values) stay in cache between the two sweeps.
     for (int j = 0; j < ny; ++j) {
@@ -638,7 +674,6 @@ void FftSolver::Impl::distributed_tridiagonal() {
     v_high.resize(L);
     std::vector<real> ra(P), rd(P), rc(P), rb(P), rv(P), rw(3 * P);
     const int prev_rank = (me + P - 1) % P;
-    std::vector<std::size_t> singular;
     for (int j = 0; j < ny; ++j)
         for (int i = 0; i < nx; ++i) {
             const std::size_t l = std::size_t(j) * nx + i;
@@ -656,7 +691,6 @@ void FftSolver::Impl::distributed_tridiagonal() {
             const bool is_singular = alpha == 0 && l0[bb.lo[0] + i] + l1[bb.lo[1] + j] == 0;
             if (is_singular) {
                 // V_{P-1} = 0; rows 0 .. P-2 without their couplings to it (Thomas)
-                singular.push_back(l);
                 rv[P - 1] = 0;
                 real den = rd[0];
                 rw[0] = rc[0] / den;
@@ -714,25 +748,8 @@ void FftSolver::Impl::distributed_tridiagonal() {
         }
         std::copy(hi, hi + nx, base + n * plane);
     }
-    // 4. The singular line (if any) to zero mean over all ranks.
-    if (!singular.empty()) {
-        std::vector<real> sums(singular.size(), 0.0);
-        for (std::size_t s = 0; s < singular.size(); ++s) {
-            const std::size_t l = singular[s];
-            const real* base = W.b + std::ptrdiff_t(l / nx) * row + std::ptrdiff_t(l % nx);
-            for (int k = 0; k < m; ++k)
-                sums[s] += base[k * plane];
-        }
-        MPI_Allreduce(MPI_IN_PLACE, sums.data(), int(sums.size()), mpi_real(), MPI_SUM,
-                      W.dec.comm());
-        const real total = real(W.n[2]);
-        for (std::size_t s = 0; s < singular.size(); ++s) {
-            const std::size_t l = singular[s];
-            real* base = W.b + std::ptrdiff_t(l / nx) * row + std::ptrdiff_t(l % nx);
-            for (int k = 0; k < m; ++k)
-                base[k * plane] -= sums[s] / total;
-        }
-    }
+    // 4. The singular line's answer to zero mean.
+    if (alpha == 0) shift_singular_lines_to_zero_mean();
 }
 
 SolveReport FftSolver::solve(const Field& rhs, Field& x) {

@@ -35,24 +35,19 @@ const real* row_of(const Field& f, int j, int k) {
 /// Row by row over raw pointers, summed in the order of a cell loop (x fastest, one
 /// accumulator), so the same value to the last bit.
 real mean_over_block(const Decomposition& dec, const Field& f) {
-    real s = 0;
+    // four partial sums: the adds of one sum wait on each other (no reassociation allowed)
+    real s[4] = {0, 0, 0, 0};
     const int n0 = dec.block().cells[0];
     for_each_owned_row(dec, [&](int j, int k) {
         const real* r = row_of(f, j, k);
-        for (int i = 0; i < n0; ++i)
-            s += r[i];
+        int i = 0;
+        for (; i + 4 <= n0; i += 4)
+            for (int q = 0; q < 4; ++q)
+                s[q] += r[i + q];
+        for (; i < n0; ++i)
+            s[0] += r[i];
     });
-    return dec.sum(s) / real(dec.grid().total_cells());
-}
-
-/// f -= value at the owned points.
-void subtract(const Decomposition& dec, Field& f, real value) {
-    const int n0 = dec.block().cells[0];
-    for_each_owned_row(dec, [&](int j, int k) {
-        real* r = row_of(f, j, k);
-        for (int i = 0; i < n0; ++i)
-            r[i] -= value;
-    });
+    return dec.sum((s[0] + s[1]) + (s[2] + s[3])) / real(dec.grid().total_cells());
 }
 
 /// The hypre settings behind "auto" (and behind "fft" where it cannot apply).
@@ -349,12 +344,12 @@ SolveReport SmacStepper::pressure_solve(real dt) {
     sweep::require_same_layout(ustar_[0], rhs_);
     if (pressure_fft_) {
         // The direct solve needs no stopping floor (so no max |v*| and no reduction for
-        // it) and no starting guess; it sets the (undetermined) mean of phi to zero.
+        // it) and no starting guess; it drops the right-hand side's mean (its zero mode,
+        // round-off here) and sets the (undetermined) mean of phi to zero.
         if (ustar_.dim == 2)
             sweep::divergence<2, false>(ustar_, g, scale, rhs_);
         else
             sweep::divergence<3, false>(ustar_, g, scale, rhs_);
-        subtract(dec_, rhs_, mean_over_block(dec_, rhs_));
         return pressure_fft_->solve(rhs_, phi_);
     }
     const real speed = ustar_.dim == 2 ? sweep::divergence<2>(ustar_, g, scale, rhs_)
