@@ -39,7 +39,7 @@ RUNS = [
     ("ca0.1_n64_t20_linear", "reference_map", 0.1, "neo_hookean", None),
     ("ca0.025_n64_t20_linear", "reference_map", 0.025, "neo_hookean", None),
     ("ca0.0125_n64_t20_linear", "reference_map", 0.0125, "neo_hookean", None),
-    ("ca0.05_n64_bend0.01_t20", "reference_map", 0.05, "neo_hookean", None),
+    ("ca0.05_n64_bend0.01_t20_w1", "reference_map", 0.05, "neo_hookean", None),
     ("ca0.05_n32_t10", "reference_map", 0.05, "neo_hookean", None),
     ("ca0.2_n32_t10", "reference_map", 0.2, "neo_hookean", None),
     ("ca0.05_n128_t10", "reference_map", 0.05, "neo_hookean", None),
