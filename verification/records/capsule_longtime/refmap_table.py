@@ -77,6 +77,9 @@ RUNS = [
     # the confinement's share of D (docs/method.md)
     ("ca0.2_n64_box16_t6", "reference_map, cubic, eps 0.75, box 16 a", 0.2, "neo_hookean",
      None),
+    # session 23: the study's bending and Skalak runs with the cases' width
+    ("ca0.05_n64_bend0.01_t20", "reference_map, cubic, eps 0.75", 0.05, "neo_hookean", None),
+    ("ca0.025_n64_skalak_C1_t20", "reference_map, cubic, eps 0.75", 0.025, "skalak", 1.0),
 ]
 
 
