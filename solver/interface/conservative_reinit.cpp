@@ -30,8 +30,12 @@ ReinitStats ConservativeReinit::apply(Body& body) {
         work_ = make("phi_reinit");
         psi_a_ = make("psi_a");
         expo_ = make("exp_psi_a");
-        for (int t = 0; t < dim; ++t)
+        for (int t = 0; t < dim; ++t) {
             grad_[t] = make("grad_psi_a");
+            change_[t] = make("face_change");
+        }
+        gain_limit_ = make("gain_limit");
+        loss_limit_ = make("loss_limit");
     }
     const real h = g.dx(0);
     const real e = 0.5 * eps_cells_ * h;
@@ -106,19 +110,8 @@ ReinitStats ConservativeReinit::apply(Body& body) {
             int nt = 0;
             for (int t = 0; t < dim; ++t)
                 if (t != d) tg[nt++] = grad_[t].data().data();
-            for_rows(faces, [&](std::ptrdiff_t r, int ni, int j, int k) {
-                const int jk[3] = {0, j, k};
-                // Along d = 0 the row's first face is the one below the first owned cell
-                // and its last the one above the last; along d > 0 the whole row is either.
-                int i_p_first = 0, i_q_last = ni;
-                bool p_owned = true, q_owned = true;
-                if (d == 0) {
-                    i_p_first = 1;
-                    i_q_last = ni - 1;
-                } else {
-                    p_owned = jk[d] >= own.lo[d];
-                    q_owned = jk[d] + 1 < own.hi[d];
-                }
+            real* const ch = change_[d].data().data();
+            for_rows(faces, [&](std::ptrdiff_t r, int ni, int, int) {
                 for (int i = 0; i < ni; ++i) {
                     const std::ptrdiff_t p = r + i, q = p + s;
                     const real f0 = ph[p], f1 = ph[q];
@@ -142,8 +135,58 @@ ReinitStats ConservativeReinit::apply(Body& body) {
                         const real w = ex[p] * ex[q];
                         if (g2 > 0) flux = w / ((1 + w) * (1 + w)) * gd * (1 - 1 / std::sqrt(g2));
                     }
-                    // The flux along +d leaves p and enters q.
-                    const real change = dtau * flux / h;
+                    // The flux along +d leaves p and enters q: p's value changes by
+                    // +change, q's by -change.
+                    ch[p] = dtau * flux / h;
+                }
+            });
+        }
+        // Limit the face changes where an owned cell would leave [0, 1] (Zalesak's
+        // limiter with the bounds 0 and 1): a cell's gains are scaled by min(1, room /
+        // gains), its losses by min(1, content / losses), and a face takes the smaller
+        // factor of its receiving and its giving cell; both ranks of a face see the same
+        // factors (exchanged), so the changes still telescope. Where nothing would leave
+        // [0, 1] every factor is exactly 1 and nothing changes.
+        std::fill(gain_limit_.data().begin(), gain_limit_.data().end(), 1.0);
+        std::fill(loss_limit_.data().begin(), loss_limit_.data().end(), 1.0);
+        real* const gl = gain_limit_.data().data();
+        real* const ll = loss_limit_.data().data();
+        for_rows(own, [&](std::ptrdiff_t r, int ni, int, int) {
+            for (int i = 0; i < ni; ++i) {
+                const std::ptrdiff_t n = r + i;
+                real gains = 0, losses = 0;
+                for (int d = 0; d < dim; ++d) {
+                    const real* ch = change_[d].data().data();
+                    const real up = ch[n], down = -ch[n - stride[d]];
+                    gains += std::max(up, 0.0) + std::max(down, 0.0);
+                    losses += std::max(-up, 0.0) + std::max(-down, 0.0);
+                }
+                if (gains > 1 - ph[n]) gl[n] = std::max(1 - ph[n], 0.0) / gains;
+                if (losses > ph[n]) ll[n] = std::max(ph[n], 0.0) / losses;
+            }
+        });
+        halos_.fill(gain_limit_, body.patch());
+        halos_.fill(loss_limit_, body.patch());
+        for (int d = 0; d < dim; ++d) {
+            Box faces = own;
+            --faces.lo[d];
+            const std::ptrdiff_t s = stride[d];
+            const real* ch = change_[d].data().data();
+            for_rows(faces, [&](std::ptrdiff_t r, int ni, int j, int k) {
+                const int jk[3] = {0, j, k};
+                int i_p_first = 0, i_q_last = ni;
+                bool p_owned = true, q_owned = true;
+                if (d == 0) {
+                    i_p_first = 1;
+                    i_q_last = ni - 1;
+                } else {
+                    p_owned = jk[d] >= own.lo[d];
+                    q_owned = jk[d] + 1 < own.hi[d];
+                }
+                for (int i = 0; i < ni; ++i) {
+                    const std::ptrdiff_t p = r + i, q = p + s;
+                    real change = ch[p];
+                    change *= change > 0 ? std::min(gl[p], ll[q]) : std::min(ll[p], gl[q]);
                     if (p_owned && i >= i_p_first) wk[p] += change;
                     if (q_owned && i < i_q_last) wk[q] -= change;
                 }

@@ -31,8 +31,10 @@
 // Each pseudo-step is a flux
 // difference on the faces: the volume sum phi dV changes only by round-off (the fluxes
 // telescope; a face between two empty or two full cells carries none, so nothing leaves
-// the patch). Pseudo-step dtau = h^2 / (4 dim e) (half the explicit diffusion limit); the
-// number of pseudo-steps per time step is the body key `profile_iterations`.
+// the patch). Where a pseudo-step would carry a cell past 0 or 1 the face changes are
+// limited (Zalesak's limiter with the bounds 0 and 1) rather than the cell clipped, so the
+// volume holds at any width. Pseudo-step dtau = h^2 / (4 dim e) (half the explicit diffusion
+// limit); the number of pseudo-steps per time step is the body key `profile_iterations`.
 #pragma once
 
 #include "bodies/body.hpp"
@@ -61,10 +63,12 @@ class ConservativeReinit {
     const HaloFiller& halos_;
     real eps_cells_;
     int iterations_;
-    Field work_;                ///< phi with 2 halo layers
-    Field psi_a_;               ///< e ln(phi / (1 - phi)), 2 halo layers
-    Field expo_;                ///< exp(psi_a / 2e) = sqrt(phi / (1 - phi)), 2 halo layers
-    std::array<Field, 3> grad_; ///< fourth-order central gradient of psi_a, per component
+    Field work_;                    ///< phi with 2 halo layers
+    Field psi_a_;                   ///< e ln(phi / (1 - phi)), 2 halo layers
+    Field expo_;                    ///< exp(psi_a / 2e) = sqrt(phi / (1 - phi)), 2 halo layers
+    std::array<Field, 3> grad_;     ///< fourth-order central gradient of psi_a, per component
+    std::array<Field, 3> change_;   ///< the change of phi by the face p + 1/2 e_d, at p
+    Field gain_limit_, loss_limit_; ///< per cell, the factors that keep phi in [0, 1]
 };
 
 } // namespace efsi
