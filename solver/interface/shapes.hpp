@@ -36,7 +36,7 @@ class Shape {
 
     /// Implicit function at lab point x: negative inside.
     real level(const Real3& x) const { return body_level(to_body(x)); }
-    bool inside(const Real3& x) const { return level(x) < 0; }
+    bool inside(const Real3& x) const { return body_inside(to_body(x)); }
     /// True when |level| never exceeds the distance to the surface.
     virtual bool level_bounds_distance() const = 0;
     /// Exact volume (3D) for checks; 2D shapes return their area.
@@ -46,6 +46,8 @@ class Shape {
   protected:
     /// Implicit function in body coordinates.
     virtual real body_level(const Real3& y) const = 0;
+    /// Whether body point y is inside: body_level(y) < 0, or a cheaper test of the same sign.
+    virtual bool body_inside(const Real3& y) const { return body_level(y) < 0; }
 
   private:
     Real3 to_body(const Real3& x) const;
