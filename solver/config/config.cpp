@@ -207,7 +207,22 @@ Config read_config(toml::table& root, const std::filesystem::path& case_dir) {
         TableReader r = top.sub("case", "name and description of the case");
         c.name = r.string("name", case_dir.filename().string(), {}, "case name (for logs)");
         c.description = r.string("description", "", {}, "one line on the physics");
+        c.length_unit = r.string("length_unit", "m", {},
+                                 "label of the case's length unit in the log (the solver is "
+                                 "unit-agnostic: a case in um sets \"um\"; nothing is converted)");
+        c.time_unit = r.string("time_unit", "s", {},
+                               "label of the case's time unit in the log (a case in ms sets "
+                               "\"ms\")");
         r.finish();
+        for (const auto& [key, v] :
+             {std::pair{"length_unit", &c.length_unit}, std::pair{"time_unit", &c.time_unit}})
+            if (!KeyCatalogue::instance().documenting &&
+                (v->empty() || v->size() > 16 || std::any_of(v->begin(), v->end(), [](char ch) {
+                     return static_cast<unsigned char>(ch) < 32;
+                 })))
+                throw InputError(fmt::format("case.{} = \"{}\": a label of 1 to 16 printable "
+                                             "characters",
+                                             key, *v));
         // The name is the default output folder out/<name>: it must stay inside out/.
         if (!KeyCatalogue::instance().documenting &&
             (c.name.empty() || c.name.size() > 128 || c.name[0] == '.' ||

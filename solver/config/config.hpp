@@ -67,6 +67,9 @@ struct ContactConfig {
 struct Config {
     std::string name;
     std::string description;
+    /// Labels of the case's length and time units in the log (the solver is unit-agnostic:
+    /// a case written in um and ms sets "um" and "ms"; nothing is converted).
+    std::string length_unit = "m", time_unit = "s";
     std::filesystem::path case_dir;
     GlobalGrid grid;
     FluidConfig fluid;

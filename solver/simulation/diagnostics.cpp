@@ -37,7 +37,8 @@ void measure_flow(const Decomposition& dec, const FlowState& s, real density, Di
     d.max_speed = dec.max(speed);
 }
 
-std::string locate_worst_velocity(const Decomposition& dec, const FlowState& s) {
+std::string locate_worst_velocity(const Decomposition& dec, const FlowState& s,
+                                  const std::string& speed_unit) {
     const GlobalGrid& g = dec.grid();
     real worst = -1;
     Real3 where{0, 0, 0};
@@ -61,7 +62,7 @@ std::string locate_worst_velocity(const Decomposition& dec, const FlowState& s) 
     const real cc = dec.sum(mine * comp) / owners;
     const bool finite = global < std::numeric_limits<real>::max();
     return fmt::format("{} velocity component {} at x = ({:.4g}, {:.4g}, {:.4g})",
-                       finite ? fmt::format("largest |v| = {:.3e} m/s in", global)
+                       finite ? fmt::format("largest |v| = {:.3e} {} in", global, speed_unit)
                               : std::string("non-finite"),
                        "uvw"[int(std::lround(cc))], x[0], x[1], x[2]);
 }

@@ -28,6 +28,8 @@ struct Diagnostics {
 void measure_flow(const Decomposition& dec, const FlowState& s, real density, Diagnostics& d);
 
 /// Where the fastest (or first non-finite) velocity of the run is, as a readable message.
-std::string locate_worst_velocity(const Decomposition& dec, const FlowState& s);
+/// `speed_unit`: the label of a velocity in the log ("m/s" for SI).
+std::string locate_worst_velocity(const Decomposition& dec, const FlowState& s,
+                                  const std::string& speed_unit = "m/s");
 
 } // namespace efsi

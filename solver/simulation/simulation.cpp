@@ -274,14 +274,15 @@ void Simulation::check_stability(const TimeStepChoice& choice) {
     if (!std::isfinite(choice.max_speed))
         why = "the velocity is no longer finite";
     else if (choice.max_speed > cfg_.stability.max_velocity)
-        why = fmt::format("|v| = {:.3e} m/s exceeds stability.max_velocity = {:.3e}",
-                          choice.max_speed, cfg_.stability.max_velocity);
+        why = fmt::format("|v| = {:.3e} {}/{} exceeds stability.max_velocity = {:.3e}",
+                          choice.max_speed, cfg_.length_unit, cfg_.time_unit,
+                          cfg_.stability.max_velocity);
     else if (choice.cfl > cfg_.stability.max_cfl)
         why = fmt::format("CFL = {:.3f} exceeds stability.max_cfl = {:.3f}", choice.cfl,
                           cfg_.stability.max_cfl);
     else if (choice.dt < 1e-14 * cfg_.time.end_time &&
              s.time < cfg_.time.end_time * (1 - 1e-12)) // not the round-off left at the end
-        why = fmt::format("the time step collapsed to {:.3e} s", choice.dt);
+        why = fmt::format("the time step collapsed to {:.3e} {}", choice.dt, cfg_.time_unit);
     // A membrane or solid whose strain tensor runs away (a principal stretch of ~10 at the
     // default bound) has left any physical regime well before the velocity shows it: the
     // stiff-membrane growth of Gs (docs/method.md) reached tr Gs 1e5 with |v| only 4x the
@@ -297,9 +298,10 @@ void Simulation::check_stability(const TimeStepChoice& choice) {
 
 std::string Simulation::unstable_message(const std::string& why) const {
     const FlowState& s = *state_;
-    return fmt::format("UNSTABLE at step {}, t = {:.6e} s: {}; {}. The last good checkpoint "
+    return fmt::format("UNSTABLE at step {}, t = {:.6e} {}: {}; {}. The last good checkpoint "
                        "(if any) is kept in {}{}",
-                       s.step, s.time, why, locate_worst_velocity(*dec_, s),
+                       s.step, s.time, cfg_.time_unit, why,
+                       locate_worst_velocity(*dec_, s, cfg_.length_unit + "/" + cfg_.time_unit),
                        (opt_.output_dir / "checkpoint.h5").string(),
                        membrane_instability_hint(cfg_));
 }
@@ -427,9 +429,10 @@ int Simulation::run() {
         check_stability(choose_time_step(cfg_, *dec_, s, time_step_limits()));
         if (s.time < cfg_.time.end_time * (1 - 1e-12)) {
             status = "max_steps";
-            message = fmt::format("stopped at time.max_steps = {} at t = {:.6g} s of "
-                                  "time.end_time = {:.6g} s",
-                                  cfg_.time.max_steps, s.time, cfg_.time.end_time);
+            message = fmt::format("stopped at time.max_steps = {} at t = {:.6g} {} of "
+                                  "time.end_time = {:.6g} {}",
+                                  cfg_.time.max_steps, s.time, cfg_.time_unit, cfg_.time.end_time,
+                                  cfg_.time_unit);
         }
     } catch (const RunError& e) {
         status = "unstable";
@@ -448,18 +451,20 @@ bool Simulation::finished() const {
 
 void Simulation::log_start() {
     start_ = std::chrono::steady_clock::now();
-    log(fmt::format("efsi: case '{}' on {} rank(s) ({}x{}x{}), grid {}x{}x{} ({}D), dx = {:.4g} m",
+    log(fmt::format("efsi: case '{}' on {} rank(s) ({}x{}x{}), grid {}x{}x{} ({}D), dx = {:.4g} {}",
                     cfg_.name, dec_->size(), dec_->ranks_per_dim()[0], dec_->ranks_per_dim()[1],
                     dec_->ranks_per_dim()[2], cfg_.grid.cells[0], cfg_.grid.cells[1],
-                    cfg_.grid.cells[2], cfg_.grid.dim, cfg_.grid.dx(0)));
+                    cfg_.grid.cells[2], cfg_.grid.dim, cfg_.grid.dx(0), cfg_.length_unit));
     log(stepper_->solver_summary());
     if (const SeedingReport& sr = cfg_.seeding; sr.used)
-        log(fmt::format("{}; haematocrit {:.4f} of the lumen of '{}' ({:.4g} m^3), gap {:.3g} m",
-                        sr.message, sr.achieved, sr.vessel, sr.lumen_volume, sr.gap));
+        log(fmt::format("{}; haematocrit {:.4f} of the lumen of '{}' ({:.4g} {}^3), gap {:.3g} {}",
+                        sr.message, sr.achieved, sr.vessel, sr.lumen_volume, cfg_.length_unit,
+                        sr.gap, cfg_.length_unit));
     if (!body_limits_.empty()) {
         std::string limits;
         for (const TimeStepLimit& l : body_limits_)
-            limits += fmt::format("{}{} {:.3e} s", limits.empty() ? "" : ", ", l.name, l.dt);
+            limits += fmt::format("{}{} {:.3e} {}", limits.empty() ? "" : ", ", l.name, l.dt,
+                                  cfg_.time_unit);
         log("body time-step limits: " + limits);
     }
     if (adhesion_)
@@ -495,10 +500,10 @@ void Simulation::log_progress(const TimeStepChoice& choice, const StepReport& r)
     const double frac = (s.time) / cfg_.time.end_time;
     const double eta =
         steps_this_run_ > 0 && frac > 0 ? wall * (1 - frac) / std::max(1e-12, frac - 0.0) : 0.0;
-    log(fmt::format("step {:7d}  t = {:.4e} s ({:5.1f}%)  dt = {:.3e} [{}]  div = {:.1e}  "
-                    "KE = {:.4e}  p-its {:3d}  ETA {:.0f} s",
-                    s.step, s.time, 100 * frac, choice.dt, choice.limited_by, last_.max_divergence,
-                    last_.kinetic_energy, r.pressure.iterations, eta));
+    log(fmt::format("step {:7d}  t = {:.4e} {} ({:5.1f}%)  dt = {:.3e} [{}]  div = {:.1e}  "
+                    "KE = {:.4e}  p-its {:3d}  ETA {:.0f} s (wall)",
+                    s.step, s.time, cfg_.time_unit, 100 * frac, choice.dt, choice.limited_by,
+                    last_.max_divergence, last_.kinetic_energy, r.pressure.iterations, eta));
 }
 
 int Simulation::finish(const std::string& status, const std::string& message) {

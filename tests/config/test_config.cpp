@@ -233,6 +233,26 @@ TEST(Config, OutOfRangeValueIsNamed) {
                 HasSubstr("vof.beta_mthinc"));
 }
 
+// The unit labels of the log: SI by default; a case in um and ms names them; an empty
+// label is refused.
+TEST(Config, UnitLabelsDefaultToSiAndAreChecked) {
+    const Config si = case_from(base_case);
+    EXPECT_EQ(si.length_unit, "m");
+    EXPECT_EQ(si.time_unit, "s");
+    const Config um =
+        case_from(base_case, {{"case.length_unit", "\"um\""}, {"case.time_unit", "\"ms\""}});
+    EXPECT_EQ(um.length_unit, "um");
+    EXPECT_EQ(um.time_unit, "ms");
+    EXPECT_THAT(input_error_of([] {
+                    case_from(base_case, {{"case.length_unit", "\"\""}});
+                }),
+                HasSubstr("case.length_unit"));
+    EXPECT_THAT(input_error_of([] {
+                    case_from(base_case, {{"case.time_unit", "\"a label far too long\""}});
+                }),
+                HasSubstr("case.time_unit"));
+}
+
 TEST(Config, MissingRequiredKeyIsNamed) {
     const std::string text = "[grid]\ncells = [16, 8, 4]\nlength = [2.0, 1.0, 0.5]\n"
                              "[fluid]\ndensity = 1.0\n[time]\nend_time = 1.0\n";
