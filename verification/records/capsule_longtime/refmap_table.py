@@ -80,6 +80,7 @@ RUNS = [
     # session 23: the study's bending and Skalak runs with the cases' width
     ("ca0.05_n64_bend0.01_t20", "reference_map, cubic, eps 0.75", 0.05, "neo_hookean", None),
     ("ca0.025_n64_skalak_C1_t20", "reference_map, cubic, eps 0.75", 0.025, "skalak", 1.0),
+    ("ca0.025_n64_skalak_C10_t20", "reference_map, cubic, eps 0.75", 0.025, "skalak", 10.0),
 ]
 
 
