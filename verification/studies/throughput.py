@@ -40,8 +40,10 @@ GRID = {"ci": 32, "quick": 64, "full": 128}
 STEPS = 20
 RANKS = [1, 2]
 # Each configuration is run REPEATS times and the fastest run is reported (best-of-n damps
-# interference from other jobs on a shared machine; every run is kept in the table).
-REPEATS = {"ci": 1, "quick": 2, "full": 2}
+# interference from other jobs on a shared machine; every run is kept in the table). Three
+# in the full tier since session 23: on the idle VM three back-to-back full tiers of the
+# same binary gave 2-rank speedups of 1.90, 2.64 and 1.37 with two repeats each.
+REPEATS = {"ci": 1, "quick": 2, "full": 3}
 
 
 def cpu_model() -> str:
@@ -59,9 +61,13 @@ def run(ctx):
     metrics, rows = {}, []
     load_before = os.getloadavg()
     all_runs = []
-    for r in RANKS:
-        best = None
-        for rep in range(REPEATS[ctx.tier]):
+    # The rank counts alternate (1, 2, 1, 2, ...): a slow spell of the shared machine then
+    # touches both instead of one block of repeats (session 23: three 1-rank repeats in a
+    # row all ran ~30 % slow and made the 2-rank speedup 2.4).
+    best_of = {r: None for r in RANKS}
+    for rep in range(REPEATS[ctx.tier]):
+        for r in RANKS:
+            best = best_of[r]
             out = ctx.outdir / f"n{n}_np{r}_run{rep}"
             summ = ctx.run_efsi("cases/taylor_green_3d", out, ranks=r, sets={
                 "grid.cells": f"[{n},{n},{n}]", "time.max_steps": str(STEPS),
@@ -91,7 +97,9 @@ def run(ctx):
             all_runs.append(row)
             if best is None or (row["stepping_cell_updates_per_second"]
                                 > best["stepping_cell_updates_per_second"]):
-                best = row
+                best_of[r] = row
+    for r in RANKS:
+        best = best_of[r]
         rows.append(best)
         metrics[f"cell_updates_per_second_np{r}"] = best["cell_updates_per_second"]
         metrics[f"pressure_fraction_np{r}"] = best["pressure_fraction"]
