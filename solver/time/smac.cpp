@@ -32,10 +32,10 @@ const real* row_of(const Field& f, int j, int k) {
     return f.data().data() + f.index(0, j, k);
 }
 
-/// Row by row over raw pointers, summed in the order of a cell loop (x fastest, one
-/// accumulator), so the same value to the last bit.
+/// Row by row over raw pointers, in four partial sums (x index modulo 4, then combined
+/// pairwise): one running sum makes every add wait on the previous one, and the compiler
+/// may not reorder it. The order is fixed, so the value is the same on every run.
 real mean_over_block(const Decomposition& dec, const Field& f) {
-    // four partial sums: the adds of one sum wait on each other (no reassociation allowed)
     real s[4] = {0, 0, 0, 0};
     const int n0 = dec.block().cells[0];
     for_each_owned_row(dec, [&](int j, int k) {
