@@ -455,8 +455,11 @@ void FftSolver::Impl::tridiagonal() {
         }
         const real lq = t[q].lambda[kq];
         if (first == 1) std::fill(base, base + nx, 0.0); // the fixed wall face
-        // The singular line: its right-hand side's mean (the zero mode) is dropped.
-        if (neumann && alpha == 0 && lq == 0)
+        // The singular line (alpha = 0, both other wavenumbers zero, zero gradient at both
+        // ends) to zero mean along T: its right-hand side before the sweep (the zero mode is
+        // dropped), its answer after it (the last pivot is zero: the value there came out 0).
+        const bool singular = neumann && alpha == 0 && lq == 0;
+        auto zero_mean_of_singular_line = [&] {
             for (int i = 0; i < nx; ++i) {
                 if (l0[bb.lo[0] + i] != 0) continue;
                 real mean = 0;
@@ -466,6 +469,8 @@ void FftSolver::Impl::tridiagonal() {
                 for (int j = 0; j < N; ++j)
                     base[j * stride[T] + i] -= mean;
             }
+        };
+        if (singular) zero_mean_of_singular_line();
         // forward elimination (the row before the first is zero: no coupling there)
         for (int j = first; j < N; ++j) {
             real* row = base + j * stride[T];
@@ -487,17 +492,7 @@ void FftSolver::Impl::tridiagonal() {
             for (int i = 0; i < nx; ++i)
                 row[i] -= cp[i] * next[i];
         }
-        // The singular line (its last pivot is zero: the value there came out as 0): zero mean.
-        if (neumann && alpha == 0 && lq == 0)
-            for (int i = 0; i < nx; ++i) {
-                if (l0[bb.lo[0] + i] != 0) continue;
-                real mean = 0;
-                for (int j = 0; j < N; ++j)
-                    mean += base[j * stride[T] + i];
-                mean /= N;
-                for (int j = 0; j < N; ++j)
-                    base[j * stride[T] + i] -= mean;
-            }
+        if (singular) zero_mean_of_singular_line();
     }
 }
 
