@@ -30,7 +30,8 @@
 // which the first slabs are split) is not transformed but solved as cyclic tridiagonal
 // systems split over the ranks, joined by a reduced system of one unknown per rank and
 // line (one small all-gather instead of two transposes of the whole array).
-// linear/fft_poisson.cpp is the only file that includes FFTW.
+// linear/fft_poisson.cpp, linear/fft_tridiagonal.cpp and their private header
+// linear/fft_detail.hpp are the only files that include FFTW.
 #pragma once
 
 #include "core/types.hpp"
