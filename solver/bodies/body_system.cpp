@@ -1,6 +1,7 @@
 #include "bodies/body_system.hpp"
 #include "membrane/kinematics.hpp"
 
+#include "bodies/body_shape.hpp"
 #include "bodies/contact.hpp"
 
 #include "core/error.hpp"
@@ -19,34 +20,6 @@
 namespace efsi {
 
 namespace {
-
-std::unique_ptr<Shape> make_shape(const BodyConfig& b) {
-    const Matrix3 rot = b.angle != 0 ? axis_angle_rotation(b.axis, b.angle) : identity_rotation();
-    switch (b.shape) {
-    case BodyShape::Sphere:
-        return make_sphere(b.centre, b.radius);
-    case BodyShape::Ellipsoid:
-        return make_ellipsoid(b.centre, b.semi_axes, rot);
-    case BodyShape::Biconcave: {
-        EvansFungCoefficients k;
-        k.r0 = b.radius;
-        // The smoothed (membrane) profile needs a distance; the sharp one only the sign.
-        return b.interface == InterfaceKind::Smoothed ? make_biconcave_distance(b.centre, rot, k)
-                                                      : make_biconcave_disc(b.centre, rot, k);
-    }
-    case BodyShape::Tube:
-        return make_tube(b.centre, 0.5 * b.lumen_diameter);
-    case BodyShape::Cylinder:
-        return make_cylinder(b.centre, b.radius, rot);
-    case BodyShape::Box:
-        return make_box(b.centre, b.half_sizes, rot);
-    case BodyShape::Slab:
-        return make_slab(b.centre, b.normal, b.thickness);
-    case BodyShape::Mask:
-        return nullptr;
-    }
-    return nullptr;
-}
 
 /// Every cell with phi above this counts as occupied when fitting a patch: 0, so a patch
 /// never drops volume (VOF residues below its epsilon do not move, so tails cannot creep).
@@ -103,7 +76,7 @@ void BodySystem::initialise_body(std::size_t i) {
     }
     body.allocate(make_patch(start, dec_));
     Field& phi = body.phi();
-    const auto shape = make_shape(bc); // null for a mask
+    const auto shape = make_body_shape(bc); // null for a mask
     if (bc.shape == BodyShape::Mask) {
         const auto file = std::filesystem::path(bc.mask_file).is_absolute()
                               ? std::filesystem::path(bc.mask_file)

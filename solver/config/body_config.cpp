@@ -161,6 +161,13 @@ std::vector<BodyConfig> read_bodies(TableReader& top, const GlobalGrid& grid,
             "points when it is extended along the normals: cubic (tensor-product 4-point "
             "Lagrange, error O(h^4): the default) or linear (trilinear, O(h^2): its bias "
             "feeds the core and the stored strain drifts, docs/method.md)");
+        b.map_projection = r.boolean(
+            "map_projection", true,
+            "membrane, strain_model = reference_map, a body given by a shape (not a mask): "
+            "each step the map's value X in the band is replaced by the nearest point of the "
+            "shape's surface (every surface point's reference position lies on it; the "
+            "extension's and transport's errors otherwise drift X off it and the stored "
+            "strain with it, docs/method.md)");
         b.profile_iterations =
             int(r.integer("profile_iterations", 2, Range::closed(0, 100),
                           "membrane: pseudo-steps per time step of the conservative "

@@ -124,6 +124,9 @@ struct BodyConfig {
     /// rebuilt from grad X each step (membrane/reference_map.hpp).
     StrainModel strain_model = StrainModel::ReferenceMap;
     MapInterpolation map_interpolation = MapInterpolation::Cubic;
+    /// strain_model = reference_map on a shape: X put back onto the reference shape's surface
+    /// (its closest point) in the band each step, since X(x) of a surface point lies on it.
+    bool map_projection = true;
     /// Pseudo-steps per time step of the conservative restoration of phi's tanh profile.
     int profile_iterations = 2;
 

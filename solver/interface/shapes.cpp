@@ -44,6 +44,39 @@ Real3 Shape::to_body(const Real3& x) const {
     return y;
 }
 
+Real3 Shape::to_lab(const Real3& y) const {
+    // x = c + R y.
+    Real3 x = centre_;
+    for (int a = 0; a < 3; ++a)
+        for (int b = 0; b < 3; ++b)
+            x[a] += rot_[a][b] * y[b];
+    return x;
+}
+
+Real3 Shape::body_closest_point(const Real3& y0) const {
+    Real3 y = y0;
+    // The difference step: small against any body, large against round-off in the level.
+    const real scale = std::max({std::abs(y0[0]), std::abs(y0[1]), std::abs(y0[2]), 1e-300});
+    const real step = 1e-6 * scale;
+    for (int it = 0; it < 20; ++it) {
+        const real l = body_level(y);
+        Real3 g{0, 0, 0};
+        real g2 = 0;
+        for (int d = 0; d < 3; ++d) {
+            Real3 p = y, m = y;
+            p[d] += step;
+            m[d] -= step;
+            g[d] = (body_level(p) - body_level(m)) / (2 * step);
+            g2 += g[d] * g[d];
+        }
+        if (!(g2 > 0)) break;
+        for (int d = 0; d < 3; ++d)
+            y[d] -= l * g[d] / g2;
+        if (std::abs(l) < 1e-13 * scale) break;
+    }
+    return y;
+}
+
 namespace {
 
 real norm3(const Real3& y) {
@@ -59,6 +92,11 @@ class Sphere final : public Shape {
 
   protected:
     real body_level(const Real3& y) const override { return norm3(y) - r_; }
+    Real3 body_closest_point(const Real3& y) const override {
+        const real r = norm3(y);
+        if (!(r > 0)) return Real3{r_, 0, 0}; // the centre: every surface point is nearest
+        return Real3{y[0] * r_ / r, y[1] * r_ / r, y[2] * r_ / r};
+    }
 
   private:
     real r_;
@@ -137,6 +175,26 @@ class BiconcaveDistance final : public Shape {
   protected:
     real body_level(const Real3& y) const override {
         const real rho = std::hypot(y[0], y[1]), z = std::abs(y[2]);
+        const real dist = std::sqrt(nearest(rho, z).d2);
+        return disc_.level(y) < 0 ? -dist : dist;
+    }
+    Real3 body_closest_point(const Real3& y) const override {
+        const real rho = std::hypot(y[0], y[1]), z = std::abs(y[2]);
+        const std::array<real, 2> c = meridian_derivatives(nearest(rho, z).t).c;
+        // On the axis every azimuth is as near: take x.
+        const real cx = rho > 0 ? y[0] / rho : 1.0, cy = rho > 0 ? y[1] / rho : 0.0;
+        return Real3{c[0] * cx, c[0] * cy, y[2] < 0 ? -c[1] : c[1]};
+    }
+    /// The sign of body_level without the distance.
+    bool body_inside(const Real3& y) const override { return disc_.level(y) < 0; }
+
+  private:
+    struct Nearest {
+        real t = 0;  ///< the meridian parameter of the nearest point
+        real d2 = 0; ///< the squared distance to it
+    };
+    /// The nearest point of the upper meridian to (rho, z), z >= 0.
+    Nearest nearest(real rho, real z) const {
         auto d2 = [&](const std::array<real, 2>& c) {
             return (rho - c[0]) * (rho - c[0]) + (z - c[1]) * (z - c[1]);
         };
@@ -153,11 +211,12 @@ class BiconcaveDistance final : public Shape {
         // (the distance, stationary there, is then exact to round-off): 3-5 evaluations
         // of c, c' and c'' where golden sections took ~40 of c.
         real a = std::max(0, best - 1) * step, b = std::min(samples, best + 1) * step;
-        real t = best * step, f_t = dbest;
+        real t = best * step, t_f = t, f_t = dbest;
         for (int it = 0; it < 100; ++it) {
             const Derivatives m = meridian_derivatives(t);
             const real dr = rho - m.c[0], dz = z - m.c[1];
             f_t = dr * dr + dz * dz;
+            t_f = t;
             const real g = -(dr * m.d1[0] + dz * m.d1[1]); // f'(t) / 2
             const real h = m.d1[0] * m.d1[0] + m.d1[1] * m.d1[1] - (dr * m.d2[0] + dz * m.d2[1]);
             if (g > 0)
@@ -170,15 +229,12 @@ class BiconcaveDistance final : public Shape {
             t = next;
             if (moved < 1e-12 || b - a < 1e-12) break;
         }
-        const Derivatives m = meridian_derivatives(t);
-        const real f_end = (rho - m.c[0]) * (rho - m.c[0]) + (z - m.c[1]) * (z - m.c[1]);
-        const real dist = std::sqrt(std::min({dbest, f_t, f_end}));
-        return disc_.level(y) < 0 ? -dist : dist;
+        // The least of the best sample, the last iterate and the final parameter.
+        Nearest r{best * step, dbest};
+        if (f_t < r.d2) r = {t_f, f_t};
+        if (const real f = d2(meridian_derivatives(t).c); f < r.d2) r = {t, f};
+        return r;
     }
-    /// The sign of body_level without the distance.
-    bool body_inside(const Real3& y) const override { return disc_.level(y) < 0; }
-
-  private:
     static constexpr int samples = 128;
     static constexpr real step = 0.5 * std::numbers::pi / samples;
     /// The meridian point c(t) and its first and second derivatives in t.

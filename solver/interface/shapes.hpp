@@ -34,9 +34,13 @@ class Shape {
     Shape(const Real3& centre, const Matrix3& rotation) : centre_(centre), rot_(rotation) {}
     virtual ~Shape() = default;
 
+    const Real3& centre() const { return centre_; }
     /// Implicit function at lab point x: negative inside.
     real level(const Real3& x) const { return body_level(to_body(x)); }
     bool inside(const Real3& x) const { return body_inside(to_body(x)); }
+    /// The surface point nearest to lab point x (near the surface: within a fraction of the
+    /// body's smallest radius of curvature, where that point is unique).
+    Real3 closest_point(const Real3& x) const { return to_lab(body_closest_point(to_body(x))); }
     /// True when |level| never exceeds the distance to the surface.
     virtual bool level_bounds_distance() const = 0;
     /// Exact volume (3D) for checks; 2D shapes return their area.
@@ -48,9 +52,15 @@ class Shape {
     virtual real body_level(const Real3& y) const = 0;
     /// Whether body point y is inside: body_level(y) < 0, or a cheaper test of the same sign.
     virtual bool body_inside(const Real3& y) const { return body_level(y) < 0; }
+    /// The surface point nearest to body point y. By default Newton steps along the level
+    /// function's gradient (central differences), y <- y - L grad L / |grad L|^2, to
+    /// |L| < 1e-13 of the step's scale: the closest point where L is a distance, a point on
+    /// the surface within O(L^2 curvature) of it otherwise.
+    virtual Real3 body_closest_point(const Real3& y) const;
 
   private:
     Real3 to_body(const Real3& x) const;
+    Real3 to_lab(const Real3& y) const;
     Real3 centre_;
     Matrix3 rot_;
 };

@@ -1,5 +1,6 @@
 #include "membrane/membrane_body.hpp"
 
+#include "bodies/body_shape.hpp"
 #include "interface/geometry.hpp"
 #include "interface/shapes.hpp"
 #include "membrane/surface_velocity.hpp"
@@ -44,6 +45,9 @@ MembraneBody::MembraneBody(const BodyConfig& b, const BodyContext& ctx) : BodyPh
         extension_ = std::make_unique<TensorExtension>(ctx.halos, b.extension_threshold, layers,
                                                        /*two_sided=*/true);
     }
+    if (b.carries_reference_map() && b.map_projection &&
+        b.strain_extension == StrainExtension::Normal)
+        reference_shape_ = make_body_shape(b); // null for a mask
     if (b.profile_iterations > 0)
         reinit_ = std::make_unique<ConservativeReinit>(ctx.halos, b.smoothing_width,
                                                        b.profile_iterations);
@@ -64,7 +68,7 @@ void MembraneBody::initialise(Body& body, const Shape* shape) {
         // surface velocity keeps; Gs from it (P to O(h^2)), kept for a mask. For a shape
         // the exact P_R below replaces it until the first step rebuilds Gs from X.
         ctx_.halos.fill(body.phi(), body.patch());
-        normal_extension_->apply_reference_map(body, /*whole_band=*/true);
+        normal_extension_->apply_reference_map(body, /*whole_band=*/true, reference_shape_.get());
     }
     if (!shape) return; // a mask: Gs stays the identity (or, with a map, Gs from X)
     initialise_tensor(body, *shape);
@@ -167,7 +171,7 @@ void MembraneBody::extend_tensor(Body& body, const BodyStep& s) {
     if (normal_extension_)
         s.timers.time("bodies_extension", [&] {
             if (cfg_.carries_reference_map())
-                normal_extension_->apply_reference_map(body);
+                normal_extension_->apply_reference_map(body, false, reference_shape_.get());
             else
                 normal_extension_->apply(body);
         });

@@ -12,6 +12,7 @@
 #include "bodies/body_physics.hpp"
 #include "bodies/transport.hpp"
 #include "interface/conservative_reinit.hpp"
+#include "interface/shapes.hpp"
 #include "membrane/membrane_force.hpp"
 #include "membrane/membrane_law.hpp"
 #include "membrane/normal_extension.hpp"
@@ -60,6 +61,8 @@ class MembraneBody final : public BodyPhysics {
     std::unique_ptr<TensorExtension> extension_;        ///< strain_extension = layers
     std::unique_ptr<NormalExtension> normal_extension_; ///< strain_extension = normal
     std::unique_ptr<ConservativeReinit> reinit_;        ///< profile_iterations > 0
+    /// The reference surface the map is projected onto (map_projection; none for a mask).
+    std::unique_ptr<Shape> reference_shape_;
 };
 
 } // namespace efsi

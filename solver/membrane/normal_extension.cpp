@@ -241,7 +241,7 @@ void NormalExtension::apply_tensor(Body& body, real core_cells, const Field* wei
         halos_.fill(c, body.patch());
 }
 
-void NormalExtension::apply_reference_map(Body& body, bool whole_band) {
+void NormalExtension::apply_reference_map(Body& body, bool whole_band, const Shape* reference) {
     std::vector<Field>& X = body.reference_map();
     SymmetricTensorField& G = body.tensor();
     if (X.empty() || G.comp.empty()) return;
@@ -257,20 +257,33 @@ void NormalExtension::apply_reference_map(Body& body, bool whole_band) {
     if ((valid_.data().empty() || valid_.begin() != X[0].begin() || valid_.cells() != X[0].cells()))
         valid_ = Field::on_patch("valid", Location::Cell, X[0].begin(), X[0].cells(), dim, 1);
     const real core = core_cells_ * g.dx(0);
+    const Real3 period{g.length[0], g.length[1], g.length[2]};
+    const real z2d = position(g, block, Location::Cell, 0, 0, 0)[2];
     // 1. The map beyond the core: X(x) = X(y), y = x - s n, i.e. (X - x)(x) = (X - x)(y) - s n.
     //    Beyond the band it keeps its transported value (never read by the force).
+    //    With a reference shape every band cell's X then goes onto its surface.
     for_each_in(body.phi().owned(), [&](int i, int j, int k) {
         const Int3 p{i, j, k};
         real s = 0;
         Real3 n;
-        if (!normal_at(p, s, n) || (!whole_band && std::abs(s) <= core)) return;
-        Real3 y = position(g, block, Location::Cell, i, j, k);
+        if (!normal_at(p, s, n)) return;
+        const Real3 x = position(g, block, Location::Cell, i, j, k);
+        if (whole_band || std::abs(s) > core) {
+            Real3 y = x;
+            for (int d = 0; d < dim; ++d)
+                y[d] -= s * n[d];
+            for (int d = 0; d < dim; ++d)
+                X[d](p) = (cubic_map_ ? interpolate_cubic(src_[d], y)
+                                      : interpolate(src_[d], trilinear_at(y))) -
+                          s * n[d];
+        }
+        if (!reference) return;
+        Real3 Xp = x;
         for (int d = 0; d < dim; ++d)
-            y[d] -= s * n[d];
+            Xp[d] += X[d](p);
+        const Real3 on = onto_reference_surface(*reference, Xp, dim, dec.periodic(), period, z2d);
         for (int d = 0; d < dim; ++d)
-            X[d](p) = (cubic_map_ ? interpolate_cubic(src_[d], y)
-                                  : interpolate(src_[d], trilinear_at(y))) -
-                      s * n[d];
+            X[d](p) = on[d] - x[d];
     });
     for (Field& c : X)
         halos_.fill(c, body.patch());

@@ -29,6 +29,8 @@
 
 namespace efsi {
 
+class Shape;
+
 class NormalExtension {
   public:
     /// `eps_cells`: the smoothing width of phi in cells; `core_cells`: half-thickness of the
@@ -48,8 +50,9 @@ class NormalExtension {
     /// its gradient taken along the surface (membrane/reference_map.hpp) near the surface
     /// (|psi| <= core + 2 cells) and extend that Gs over the band as apply() does. `whole_band`:
     /// extend the core too (the initial state, X = x: then X = x - psi n, the closest point, in the
-    /// whole band). Collective.
-    void apply_reference_map(Body& body, bool whole_band = false);
+    /// whole band). With `reference` (map_projection), every band cell's X is then put onto
+    /// that shape's surface (onto_reference_surface) before Gs is formed. Collective.
+    void apply_reference_map(Body& body, bool whole_band = false, const Shape* reference = nullptr);
 
     real core_cells() const { return core_cells_; }
     real reach_cells() const { return reach_cells_; }

@@ -1,7 +1,11 @@
 #include "membrane/reference_map.hpp"
 
 #include "core/matrix3.hpp"
+#include "interface/shapes.hpp"
 #include "membrane/kinematics.hpp"
+
+#include <algorithm>
+#include <cmath>
 
 namespace efsi {
 
@@ -22,6 +26,44 @@ Matrix3 surface_tensor_from_map(const Matrix3& gx, const Real3& n, int dim) {
         for (int b = 0; b < dim; ++b)
             G[a][b] -= n[a] * n[b];
     return G;
+}
+
+Real3 onto_reference_surface(const Shape& shape, const Real3& X, int dim,
+                             const std::array<bool, 3>& periodic, const Real3& period, real z2d) {
+    Real3 y = X, shift{0, 0, 0};
+    for (int d = 0; d < dim; ++d)
+        if (periodic[d] && period[d] > 0) {
+            shift[d] = period[d] * std::round((X[d] - shape.centre()[d]) / period[d]);
+            y[d] -= shift[d];
+        }
+    if (dim == 3) {
+        y = shape.closest_point(y);
+    } else {
+        // Newton steps in the plane z = z2d along the level's in-plane gradient.
+        y[2] = z2d;
+        const real scale = std::max(
+            {std::abs(y[0] - shape.centre()[0]), std::abs(y[1] - shape.centre()[1]), real(1e-300)});
+        const real step = 1e-6 * scale;
+        for (int it = 0; it < 20; ++it) {
+            const real l = shape.level(y);
+            Real3 g{0, 0, 0};
+            for (int d = 0; d < 2; ++d) {
+                Real3 p = y, m = y;
+                p[d] += step;
+                m[d] -= step;
+                g[d] = (shape.level(p) - shape.level(m)) / (2 * step);
+            }
+            const real g2 = g[0] * g[0] + g[1] * g[1];
+            if (!(g2 > 0)) break;
+            y[0] -= l * g[0] / g2;
+            y[1] -= l * g[1] / g2;
+            if (std::abs(l) < 1e-13 * scale) break;
+        }
+        y[2] = X[2];
+    }
+    for (int d = 0; d < dim; ++d)
+        y[d] += shift[d];
+    return y;
 }
 
 } // namespace efsi

@@ -15,10 +15,23 @@
 
 #include "core/types.hpp"
 
+#include <array>
+
 namespace efsi {
+
+class Shape;
 
 /// Gs from the map's gradient `gx` (gx[a][b] = d X_a / d x_b) and the unit normal `n`
 /// (entries past `dim` are ignored; in 2D the z stretch is 1 and Gs_zz = 1).
 Matrix3 surface_tensor_from_map(const Matrix3& gx, const Real3& n, int dim);
+
+/// The reference surface's point nearest to the map value X (map_projection): the reference
+/// configuration of every surface point lies on the shape's surface, so a band cell's X (its
+/// foot point's) does too. Along a periodic direction X may hold the body's image one period
+/// away (the offset X - x is carried continuously while x wraps): the image nearest the
+/// shape's centre is projected and shifted back. In 2D the surface is the shape's section
+/// z = `z2d` (the plane the initial profile was computed in) and only x and y move.
+Real3 onto_reference_surface(const Shape& shape, const Real3& X, int dim,
+                             const std::array<bool, 3>& periodic, const Real3& period, real z2d);
 
 } // namespace efsi

@@ -142,6 +142,45 @@ TEST(Shapes, BiconcaveDistanceIsTheSignedDistanceOfTheDisc) {
     EXPECT_GT(n, 100);
 }
 
+// The nearest surface point (the membrane's map projection): on the surface, and where the
+// level is a distance exactly |level| away from the point; the biconcave disc's by its
+// meridian search, the sphere's in closed form, the ellipsoid's by Newton steps on its level.
+TEST(Shapes, ClosestPointIsOnTheSurfaceAtTheDistance) {
+    const real r0 = 3.91e-6;
+    const Matrix3 rot = axis_angle_rotation({1, 0.3, -0.2}, 0.7);
+    const Real3 c{1e-6, -2e-6, 0.5e-6};
+    const auto disc = make_biconcave_distance(c, rot);
+    const auto sphere = make_sphere(c, r0);
+    const auto ell = make_ellipsoid(c, {r0, 0.8 * r0, 0.5 * r0}, rot);
+    int n = 0;
+    for (int q = 0; q < 300; ++q) {
+        const Real3 dir{std::sin(1.3 * q) * std::cos(0.4 * q), std::cos(0.7 * q),
+                        std::sin(2.9 * q + 1)};
+        for (const Shape* s : {disc.get(), sphere.get(), ell.get()}) {
+            // A point near the surface: from the centre along dir to the surface (bisection on
+            // the sign), then 0.05 r0 off it along dir.
+            real lo = 0, hi = 2 * r0;
+            for (int it = 0; it < 80; ++it) {
+                const real mid = 0.5 * (lo + hi);
+                const Real3 x{c[0] + mid * dir[0], c[1] + mid * dir[1], c[2] + mid * dir[2]};
+                (s->level(x) < 0 ? lo : hi) = mid;
+            }
+            const real off = (q % 2 ? 0.05 : -0.03) * r0;
+            const real t =
+                lo + off / std::sqrt(dir[0] * dir[0] + dir[1] * dir[1] + dir[2] * dir[2]);
+            const Real3 x{c[0] + t * dir[0], c[1] + t * dir[1], c[2] + t * dir[2]};
+            const Real3 p = s->closest_point(x);
+            EXPECT_LT(std::abs(s->level(p)), 1e-12 * r0) << s->describe() << " q " << q;
+            if (s != ell.get()) {
+                const real d = std::hypot(x[0] - p[0], x[1] - p[1], x[2] - p[2]);
+                EXPECT_NEAR(d, std::abs(s->level(x)), 1e-10 * r0) << s->describe() << " q " << q;
+            }
+            ++n;
+        }
+    }
+    EXPECT_EQ(n, 900);
+}
+
 TEST(Shapes, TubeIsTheWallAroundALumenAlongX) {
     const auto t = make_tube({0, 1.0, 2.0}, 0.5);
     EXPECT_TRUE(t->level_bounds_distance());

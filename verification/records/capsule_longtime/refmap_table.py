@@ -15,6 +15,7 @@ the reference-area drift, and the wall time per unit of shear-rate x t with the 
 those with suffix `_cubic` use the cubic default.
 docs/method.md quotes its output (section "The reference map").
 """
+import json
 import sys
 from pathlib import Path
 
@@ -42,7 +43,7 @@ RUNS = [
     ("ca0.05_n64_bend0.01_t20_w1", "reference_map", 0.05, "neo_hookean", None),
     ("ca0.05_n32_t10", "reference_map", 0.05, "neo_hookean", None),
     ("ca0.2_n32_t10", "reference_map", 0.2, "neo_hookean", None),
-    ("ca0.05_n128_t10", "reference_map", 0.05, "neo_hookean", None),
+    ("ca0.05_n128_t10_w1", "reference_map", 0.05, "neo_hookean", None),
     ("ca0.05_n64_t20_cubic", "reference_map, cubic", 0.05, "neo_hookean", None),
     ("ca0.1_n64_t20_cubic", "reference_map, cubic", 0.1, "neo_hookean", None),
     ("ca0.025_n64_t20_cubic", "reference_map, cubic", 0.025, "neo_hookean", None),
@@ -81,6 +82,10 @@ RUNS = [
     ("ca0.05_n64_bend0.01_t20", "reference_map, cubic, eps 0.75", 0.05, "neo_hookean", None),
     ("ca0.025_n64_skalak_C1_t20", "reference_map, cubic, eps 0.75", 0.025, "skalak", 1.0),
     ("ca0.025_n64_skalak_C10_t20", "reference_map, cubic, eps 0.75", 0.025, "skalak", 10.0),
+    # session 24: the study's d/32 runs with the cases' width
+    ("ca0.2_n128_t10", "reference_map, cubic, eps 0.75", 0.2, "neo_hookean", None),
+    ("ca0.1_n128_t10", "reference_map, cubic, eps 0.75", 0.1, "neo_hookean", None),
+    ("ca0.05_n128_t10", "reference_map, cubic, eps 0.75", 0.05, "neo_hookean", None),
 ]
 
 
@@ -111,7 +116,10 @@ def main() -> int:
         # (records made before reference_area left out rank-lost cells hold ~1e143)
         ref_drift = ("-" if drift is None else f"{drift:.2%}" if drift < 10
                      else "not measurable (rank-lost cells counted)")
+        # a run resumed from a checkpoint: summary.json times the last part only
+        resumed = bool(json.loads((rec / "summary.json").read_text()).get("restarted_from"))
         wall = ("-" if not m.get("wall_seconds") or m["t_end"] <= 0
+                else "- (resumed)" if resumed
                 else f"{m['wall_seconds'] / m['t_end']:.0f} ({m['ranks']})")
         print(f"| {name} | {model} | {m['t_end']:.3g} ({m['status']}) | "
               + " | ".join(d_at(t, D, w) for w in (1, 2, 3, 5, 10))
