@@ -86,6 +86,18 @@ RUNS = [
     ("ca0.2_n128_t10", "reference_map, cubic, eps 0.75", 0.2, "neo_hookean", None),
     ("ca0.1_n128_t10", "reference_map, cubic, eps 0.75", 0.1, "neo_hookean", None),
     ("ca0.05_n128_t10", "reference_map, cubic, eps 0.75", 0.05, "neo_hookean", None),
+    # session 24: the same runs with the map projected onto the reference sphere
+    # (map_projection, the default since session 24)
+    ("ca0.0125_n64_t20_proj", "reference_map, cubic, eps 0.75, projected", 0.0125, "neo_hookean", None),
+    ("ca0.025_n64_t20_proj", "reference_map, cubic, eps 0.75, projected", 0.025, "neo_hookean", None),
+    ("ca0.05_n64_t20_proj", "reference_map, cubic, eps 0.75, projected", 0.05, "neo_hookean", None),
+    ("ca0.1_n64_t20_proj", "reference_map, cubic, eps 0.75, projected", 0.1, "neo_hookean", None),
+    ("ca0.2_n64_t20_proj", "reference_map, cubic, eps 0.75, projected", 0.2, "neo_hookean", None),
+    ("ca0.05_n64_bend0.01_t20_proj", "reference_map, cubic, eps 0.75, projected", 0.05, "neo_hookean", None),
+    ("ca0.025_n64_skalak_C1_t20_proj", "reference_map, cubic, eps 0.75, projected", 0.025, "skalak", 1.0),
+    ("ca0.025_n64_skalak_C10_t20_proj", "reference_map, cubic, eps 0.75, projected", 0.025, "skalak", 10.0),
+    ("ca0.05_n32_t10_proj", "reference_map, cubic, eps 0.75, projected", 0.05, "neo_hookean", None),
+    ("ca0.2_n32_t10_proj", "reference_map, cubic, eps 0.75, projected", 0.2, "neo_hookean", None),
 ]
 
 
