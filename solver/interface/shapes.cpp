@@ -92,6 +92,10 @@ class Sphere final : public Shape {
 
   protected:
     real body_level(const Real3& y) const override { return norm3(y) - r_; }
+    real body_level_set_mean_curvature(const Real3& y) const override {
+        const real r = norm3(y);
+        return r > 0 ? 1 / r : std::numeric_limits<real>::quiet_NaN();
+    }
     Real3 body_closest_point(const Real3& y) const override {
         const real r = norm3(y);
         if (!(r > 0)) return Real3{r_, 0, 0}; // the centre: every surface point is nearest
@@ -177,6 +181,20 @@ class BiconcaveDistance final : public Shape {
         const real rho = std::hypot(y[0], y[1]), z = std::abs(y[2]);
         const real dist = std::sqrt(nearest(rho, z).d2);
         return disc_.level(y) < 0 ? -dist : dist;
+    }
+    // The level set at signed distance s from a surface with principal curvatures k has
+    // curvatures k / (1 + s k); those of the surface of revolution at the nearest meridian
+    // point: the meridian's, (z' r'' - r' z'') / |c'|^3, and the parallel's, -z' / (r |c'|)
+    // (the meridian's at the pole, where both are equal).
+    real body_level_set_mean_curvature(const Real3& y) const override {
+        const real rho = std::hypot(y[0], y[1]), z = std::abs(y[2]);
+        const Nearest q = nearest(rho, z);
+        const real s = disc_.level(y) < 0 ? -std::sqrt(q.d2) : std::sqrt(q.d2);
+        const Derivatives m = meridian_derivatives(q.t);
+        const real speed = std::hypot(m.d1[0], m.d1[1]);
+        const real km = (m.d1[1] * m.d2[0] - m.d1[0] * m.d2[1]) / (speed * speed * speed);
+        const real kp = m.c[0] > 1e-9 * k_.r0 ? -m.d1[1] / (m.c[0] * speed) : km;
+        return 0.5 * (km / (1 + s * km) + kp / (1 + s * kp));
     }
     Real3 body_closest_point(const Real3& y) const override {
         const real rho = std::hypot(y[0], y[1]), z = std::abs(y[2]);

@@ -16,6 +16,7 @@
 #include "grid/field.hpp"
 #include "grid/grid.hpp"
 
+#include <limits>
 #include <memory>
 #include <string>
 
@@ -41,6 +42,12 @@ class Shape {
     /// The surface point nearest to lab point x (near the surface: within a fraction of the
     /// body's smallest radius of curvature, where that point is unique).
     Real3 closest_point(const Real3& x) const { return to_lab(body_closest_point(to_body(x))); }
+    /// 3D: the mean of the principal curvatures of the level set through lab point x (1/r
+    /// around a sphere), in closed form where the shape has one; NaN otherwise (then the
+    /// caller differences the level function).
+    real level_set_mean_curvature(const Real3& x) const {
+        return body_level_set_mean_curvature(to_body(x));
+    }
     /// True when |level| never exceeds the distance to the surface.
     virtual bool level_bounds_distance() const = 0;
     /// Exact volume (3D) for checks; 2D shapes return their area.
@@ -57,6 +64,9 @@ class Shape {
     /// |L| < 1e-13 of the step's scale: the closest point where L is a distance, a point on
     /// the surface within O(L^2 curvature) of it otherwise.
     virtual Real3 body_closest_point(const Real3& y) const;
+    virtual real body_level_set_mean_curvature(const Real3&) const {
+        return std::numeric_limits<real>::quiet_NaN();
+    }
 
   private:
     Real3 to_body(const Real3& x) const;

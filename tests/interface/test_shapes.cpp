@@ -1,5 +1,6 @@
 // Initial volume fractions from implicit shapes: volumes against closed forms, bounds,
 // which cells are sub-sampled, and independence from the rank count.
+#include "interface/geometry.hpp"
 #include "interface/shapes.hpp"
 #include "parallel/decomposition.hpp"
 #include "test_support.hpp"
@@ -179,6 +180,49 @@ TEST(Shapes, ClosestPointIsOnTheSurfaceAtTheDistance) {
         }
     }
     EXPECT_EQ(n, 900);
+}
+
+// The closed-form curvature of the level sets (the membrane's reference curvature) against
+// central differences of the level function, near a tilted red cell and a sphere.
+TEST(Shapes, LevelSetCurvatureInClosedFormMatchesDifferences) {
+    const real r0 = 3.91e-6;
+    const Matrix3 rot = axis_angle_rotation({1, 0.3, -0.2}, 0.7);
+    const Real3 c{1e-6, -2e-6, 0.5e-6};
+    const auto disc = make_biconcave_distance(c, rot);
+    const auto sphere = make_sphere(c, r0);
+    const auto ell = make_ellipsoid(c, {r0, 0.8 * r0, 0.5 * r0}, rot);
+    EXPECT_TRUE(std::isnan(ell->level_set_mean_curvature({0, 0, 0})));
+    int n = 0;
+    for (int q = 0; q < 2000; ++q) {
+        const Real3 x{c[0] + r0 * 1.2 * std::sin(1.3 * q), c[1] + r0 * 1.2 * std::cos(0.7 * q),
+                      c[2] + r0 * 0.6 * std::sin(2.9 * q + 1)};
+        for (const Shape* s : {disc.get(), sphere.get()}) {
+            const real l = s->level(x);
+            if (std::abs(l) > 0.1 * r0 || (s == disc.get() && l < -0.02 * r0)) continue;
+            const real e = 1e-3 * r0;
+            auto L = [&](int d1, int s1, int d2, int s2) {
+                Real3 y = x;
+                y[d1] += s1 * e;
+                y[d2] += s2 * e;
+                return s->level(y);
+            };
+            Real3 grad{0, 0, 0};
+            Matrix3 H{};
+            for (int d = 0; d < 3; ++d) {
+                grad[d] = (L(d, 1, d, 0) - L(d, -1, d, 0)) / (2 * e);
+                H[d][d] = (L(d, 1, d, 0) - 2 * l + L(d, -1, d, 0)) / (e * e);
+                for (int f = d + 1; f < 3; ++f)
+                    H[d][f] = H[f][d] =
+                        (L(d, 1, f, 1) - L(d, 1, f, -1) - L(d, -1, f, 1) + L(d, -1, f, -1)) /
+                        (4 * e * e);
+            }
+            const real fd = level_set_curvature(H, grad, 3);
+            const real k = s->level_set_mean_curvature(x);
+            EXPECT_NEAR(k, fd, 1e-4 * std::abs(fd) + 1e-3 / r0) << s->describe() << " q " << q;
+            ++n;
+        }
+    }
+    EXPECT_GT(n, 100);
 }
 
 TEST(Shapes, TubeIsTheWallAroundALumenAlongX) {

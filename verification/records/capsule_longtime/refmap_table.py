@@ -98,6 +98,9 @@ RUNS = [
     ("ca0.025_n64_skalak_C10_t20_proj", "reference_map, cubic, eps 0.75, projected", 0.025, "skalak", 10.0),
     ("ca0.05_n32_t10_proj", "reference_map, cubic, eps 0.75, projected", 0.05, "neo_hookean", None),
     ("ca0.2_n32_t10_proj", "reference_map, cubic, eps 0.75, projected", 0.2, "neo_hookean", None),
+    ("ca0.2_n128_t10_proj", "reference_map, cubic, eps 0.75, projected", 0.2, "neo_hookean", None),
+    ("ca0.1_n128_t10_proj", "reference_map, cubic, eps 0.75, projected", 0.1, "neo_hookean", None),
+    ("ca0.05_n128_t10_proj", "reference_map, cubic, eps 0.75, projected", 0.05, "neo_hookean", None),
 ]
 
 
