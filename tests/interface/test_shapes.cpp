@@ -8,7 +8,9 @@
 #include <gtest/gtest.h>
 
 #include <cmath>
+#include <memory>
 #include <numbers>
+#include <tuple>
 
 using namespace efsi;
 
@@ -143,16 +145,26 @@ TEST(Shapes, BiconcaveDistanceIsTheSignedDistanceOfTheDisc) {
     EXPECT_GT(n, 100);
 }
 
+namespace {
+/// A tilted, shifted red cell (its distance), a sphere and an ellipsoid of the cell's size.
+struct TiltedShapes {
+    const real r0 = 3.91e-6;
+    const Matrix3 rot = axis_angle_rotation({1, 0.3, -0.2}, 0.7);
+    const Real3 c{1e-6, -2e-6, 0.5e-6};
+    const std::unique_ptr<Shape> disc = make_biconcave_distance(c, rot);
+    const std::unique_ptr<Shape> sphere = make_sphere(c, r0);
+    const std::unique_ptr<Shape> ell = make_ellipsoid(c, {r0, 0.8 * r0, 0.5 * r0}, rot);
+};
+} // namespace
+
 // The nearest surface point (the membrane's map projection): on the surface, and where the
 // level is a distance exactly |level| away from the point; the biconcave disc's by its
 // meridian search, the sphere's in closed form, the ellipsoid's by Newton steps on its level.
 TEST(Shapes, ClosestPointIsOnTheSurfaceAtTheDistance) {
-    const real r0 = 3.91e-6;
-    const Matrix3 rot = axis_angle_rotation({1, 0.3, -0.2}, 0.7);
-    const Real3 c{1e-6, -2e-6, 0.5e-6};
-    const auto disc = make_biconcave_distance(c, rot);
-    const auto sphere = make_sphere(c, r0);
-    const auto ell = make_ellipsoid(c, {r0, 0.8 * r0, 0.5 * r0}, rot);
+    const TiltedShapes f;
+    const real r0 = f.r0;
+    const Real3& c = f.c;
+    const auto& [disc, sphere, ell] = std::tie(f.disc, f.sphere, f.ell);
     int n = 0;
     for (int q = 0; q < 300; ++q) {
         const Real3 dir{std::sin(1.3 * q) * std::cos(0.4 * q), std::cos(0.7 * q),
@@ -185,12 +197,10 @@ TEST(Shapes, ClosestPointIsOnTheSurfaceAtTheDistance) {
 // The closed-form curvature of the level sets (the membrane's reference curvature) against
 // central differences of the level function, near a tilted red cell and a sphere.
 TEST(Shapes, LevelSetCurvatureInClosedFormMatchesDifferences) {
-    const real r0 = 3.91e-6;
-    const Matrix3 rot = axis_angle_rotation({1, 0.3, -0.2}, 0.7);
-    const Real3 c{1e-6, -2e-6, 0.5e-6};
-    const auto disc = make_biconcave_distance(c, rot);
-    const auto sphere = make_sphere(c, r0);
-    const auto ell = make_ellipsoid(c, {r0, 0.8 * r0, 0.5 * r0}, rot);
+    const TiltedShapes f;
+    const real r0 = f.r0;
+    const Real3& c = f.c;
+    const auto& [disc, sphere, ell] = std::tie(f.disc, f.sphere, f.ell);
     EXPECT_TRUE(std::isnan(ell->level_set_mean_curvature({0, 0, 0})));
     int n = 0;
     for (int q = 0; q < 2000; ++q) {
