@@ -54,27 +54,9 @@ Real3 Shape::to_lab(const Real3& y) const {
 }
 
 Real3 Shape::body_closest_point(const Real3& y0) const {
-    Real3 y = y0;
     // The difference step: small against any body, large against round-off in the level.
     const real scale = std::max({std::abs(y0[0]), std::abs(y0[1]), std::abs(y0[2]), 1e-300});
-    const real step = 1e-6 * scale;
-    for (int it = 0; it < 20; ++it) {
-        const real l = body_level(y);
-        Real3 g{0, 0, 0};
-        real g2 = 0;
-        for (int d = 0; d < 3; ++d) {
-            Real3 p = y, m = y;
-            p[d] += step;
-            m[d] -= step;
-            g[d] = (body_level(p) - body_level(m)) / (2 * step);
-            g2 += g[d] * g[d];
-        }
-        if (!(g2 > 0)) break;
-        for (int d = 0; d < 3; ++d)
-            y[d] -= l * g[d] / g2;
-        if (std::abs(l) < 1e-13 * scale) break;
-    }
-    return y;
+    return newton_onto_zero_level([this](const Real3& y) { return body_level(y); }, y0, 3, scale);
 }
 
 namespace {

@@ -16,6 +16,7 @@
 #include "grid/field.hpp"
 #include "grid/grid.hpp"
 
+#include <cmath>
 #include <limits>
 #include <memory>
 #include <string>
@@ -29,6 +30,32 @@ namespace efsi {
 Matrix3 identity_rotation();
 /// Rotation by `angle` [rad] about the (not necessarily unit) lab-frame `axis`.
 Matrix3 axis_angle_rotation(const Real3& axis, real angle);
+
+/// Newton steps onto the zero level of `level` (a callable Real3 -> real) moving only the
+/// first `dirs` coordinates: y <- y - L g / |g|^2, g the gradient by central differences with
+/// step 1e-6 `scale`, until |L| < 1e-13 `scale` (at most 20 steps). The closest point where L
+/// is a distance; a surface point within O(L^2 curvature) of it otherwise.
+template <class Level>
+Real3 newton_onto_zero_level(const Level& level, Real3 y, int dirs, real scale) {
+    const real step = 1e-6 * scale;
+    for (int it = 0; it < 20; ++it) {
+        const real l = level(y);
+        Real3 g{0, 0, 0};
+        real g2 = 0;
+        for (int d = 0; d < dirs; ++d) {
+            Real3 p = y, m = y;
+            p[d] += step;
+            m[d] -= step;
+            g[d] = (level(p) - level(m)) / (2 * step);
+            g2 += g[d] * g[d];
+        }
+        if (!(g2 > 0)) break;
+        for (int d = 0; d < dirs; ++d)
+            y[d] -= l * g[d] / g2;
+        if (std::abs(l) < 1e-13 * scale) break;
+    }
+    return y;
+}
 
 class Shape {
   public:
@@ -59,10 +86,8 @@ class Shape {
     virtual real body_level(const Real3& y) const = 0;
     /// Whether body point y is inside: body_level(y) < 0, or a cheaper test of the same sign.
     virtual bool body_inside(const Real3& y) const { return body_level(y) < 0; }
-    /// The surface point nearest to body point y. By default Newton steps along the level
-    /// function's gradient (central differences), y <- y - L grad L / |grad L|^2, to
-    /// |L| < 1e-13 of the step's scale: the closest point where L is a distance, a point on
-    /// the surface within O(L^2 curvature) of it otherwise.
+    /// The surface point nearest to body point y. By default newton_onto_zero_level on the
+    /// level function, scaled by y's largest coordinate.
     virtual Real3 body_closest_point(const Real3& y) const;
     virtual real body_level_set_mean_curvature(const Real3&) const {
         return std::numeric_limits<real>::quiet_NaN();

@@ -43,22 +43,8 @@ Real3 onto_reference_surface(const Shape& shape, const Real3& X, int dim,
         y[2] = z2d;
         const real scale = std::max(
             {std::abs(y[0] - shape.centre()[0]), std::abs(y[1] - shape.centre()[1]), real(1e-300)});
-        const real step = 1e-6 * scale;
-        for (int it = 0; it < 20; ++it) {
-            const real l = shape.level(y);
-            Real3 g{0, 0, 0};
-            for (int d = 0; d < 2; ++d) {
-                Real3 p = y, m = y;
-                p[d] += step;
-                m[d] -= step;
-                g[d] = (shape.level(p) - shape.level(m)) / (2 * step);
-            }
-            const real g2 = g[0] * g[0] + g[1] * g[1];
-            if (!(g2 > 0)) break;
-            y[0] -= l * g[0] / g2;
-            y[1] -= l * g[1] / g2;
-            if (std::abs(l) < 1e-13 * scale) break;
-        }
+        y = newton_onto_zero_level([&shape](const Real3& p) { return shape.level(p); }, y, 2,
+                                   scale);
         y[2] = X[2];
     }
     for (int d = 0; d < dim; ++d)

@@ -161,10 +161,10 @@ struct TiltedShapes {
 // level is a distance exactly |level| away from the point; the biconcave disc's by its
 // meridian search, the sphere's in closed form, the ellipsoid's by Newton steps on its level.
 TEST(Shapes, ClosestPointIsOnTheSurfaceAtTheDistance) {
-    const TiltedShapes f;
-    const real r0 = f.r0;
-    const Real3& c = f.c;
-    const auto& [disc, sphere, ell] = std::tie(f.disc, f.sphere, f.ell);
+    const TiltedShapes shapes;
+    const real r0 = shapes.r0;
+    const Real3& c = shapes.c;
+    const auto& [disc, sphere, ell] = std::tie(shapes.disc, shapes.sphere, shapes.ell);
     int n = 0;
     for (int q = 0; q < 300; ++q) {
         const Real3 dir{std::sin(1.3 * q) * std::cos(0.4 * q), std::cos(0.7 * q),
@@ -197,10 +197,10 @@ TEST(Shapes, ClosestPointIsOnTheSurfaceAtTheDistance) {
 // The closed-form curvature of the level sets (the membrane's reference curvature) against
 // central differences of the level function, near a tilted red cell and a sphere.
 TEST(Shapes, LevelSetCurvatureInClosedFormMatchesDifferences) {
-    const TiltedShapes f;
-    const real r0 = f.r0;
-    const Real3& c = f.c;
-    const auto& [disc, sphere, ell] = std::tie(f.disc, f.sphere, f.ell);
+    const TiltedShapes shapes;
+    const real r0 = shapes.r0;
+    const Real3& c = shapes.c;
+    const auto& [disc, sphere, ell] = std::tie(shapes.disc, shapes.sphere, shapes.ell);
     EXPECT_TRUE(std::isnan(ell->level_set_mean_curvature({0, 0, 0})));
     int n = 0;
     for (int q = 0; q < 2000; ++q) {
