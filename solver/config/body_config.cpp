@@ -168,6 +168,13 @@ std::vector<BodyConfig> read_bodies(TableReader& top, const GlobalGrid& grid,
             "shape's surface (every surface point's reference position lies on it; the "
             "extension's and transport's errors otherwise drift X off it and the stored "
             "strain with it, docs/method.md)");
+        b.map_area_filter = r.boolean(
+            "map_area_filter", true,
+            "membrane, strain_model = reference_map: the area ratio J of the strain rebuilt "
+            "from the map is low-passed ((1, 2, 1) in each direction over the cells near the "
+            "surface) and every band cell's Gs is rescaled to the J at its foot point: no "
+            "grid-scale area mode can grow (it did for area-stiff Skalak membranes), and no "
+            "bias from averaging tensors of turning tangent planes (docs/method.md)");
         b.profile_iterations =
             int(r.integer("profile_iterations", 2, Range::closed(0, 100),
                           "membrane: pseudo-steps per time step of the conservative "

@@ -127,6 +127,11 @@ struct BodyConfig {
     /// strain_model = reference_map on a shape: X put back onto the reference shape's surface
     /// (its closest point) in the band each step, since X(x) of a surface point lies on it.
     bool map_projection = true;
+    /// strain_model = reference_map: the area ratio J of the strain rebuilt from X is
+    /// low-passed over the valid cells near the surface ((1, 2, 1) in each direction) and
+    /// each band cell's Gs rescaled to the J interpolated at its foot point (docs/method.md,
+    /// "The area ratio, low-passed").
+    bool map_area_filter = true;
     /// Pseudo-steps per time step of the conservative restoration of phi's tanh profile.
     int profile_iterations = 2;
 

@@ -35,7 +35,8 @@ MembraneBody::MembraneBody(const BodyConfig& b, const BodyContext& ctx) : BodyPh
     if (b.strain_extension == StrainExtension::Normal) {
         normal_extension_ = std::make_unique<NormalExtension>(
             ctx.halos, b.name, b.smoothing_width, b.strain_core, -1,
-            b.carries_reference_map() && b.map_interpolation == MapInterpolation::Cubic);
+            b.carries_reference_map() && b.map_interpolation == MapInterpolation::Cubic,
+            b.carries_reference_map() && b.map_area_filter);
     } else if (b.extension_threshold > 0) {
         const real cutoff = MembraneForceSettings{}.band_cutoff;
         const int layers =

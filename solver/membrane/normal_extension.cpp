@@ -16,15 +16,38 @@
 
 namespace efsi {
 
+namespace {
+/// J = sqrt(II(Gs)), the area ratio of a tangential Gs (2D: its z row is the unit stretch).
+real area_ratio(const SymmetricTensorField& G, const Int3& p) {
+    real ii = 0;
+    for (int a = 0; a < 3; ++a)
+        for (int b = a + 1; b < 3; ++b)
+            ii += G.value(a, a, p) * G.value(b, b, p) - G.value(a, b, p) * G.value(b, a, p);
+    return std::sqrt(std::max(ii, real(0)));
+}
+
+/// Fourth-order central differences (the field needs two halo layers).
+Real3 central_gradient4(const Field& f, const GlobalGrid& g, const Int3& p, int dim) {
+    Real3 r{0, 0, 0};
+    for (int d = 0; d < dim; ++d) {
+        const real fm2 = f(shifted(p, d, -2)), fm1 = f(shifted(p, d, -1));
+        const real fp1 = f(shifted(p, d, 1)), fp2 = f(shifted(p, d, 2));
+        r[d] = (fm2 - 8 * fm1 + 8 * fp1 - fp2) / (12 * g.dx(d));
+    }
+    return r;
+}
+} // namespace
+
 real NormalExtension::default_reach(real eps_cells) {
     return std::atanh(1 - 2 * 1e-5) * eps_cells + 2;
 }
 
 NormalExtension::NormalExtension(const HaloFiller& halos, const std::string& body_name,
-                                 real eps_cells, real core_cells, real reach_cells, bool cubic_map)
+                                 real eps_cells, real core_cells, real reach_cells, bool cubic_map,
+                                 bool area_filter)
     : halos_(halos), eps_cells_(eps_cells), core_cells_(core_cells),
-      reach_cells_(reach_cells > 0 ? reach_cells : default_reach(eps_cells)),
-      cubic_map_(cubic_map) {
+      reach_cells_(reach_cells > 0 ? reach_cells : default_reach(eps_cells)), cubic_map_(cubic_map),
+      area_filter_(area_filter) {
     // The foot point is |y - x| = |psi| <= reach cells away (n is a unit vector); with u the
     // position in cell units (integer at a cell centre) the stencils read floor(u) .. floor(u)
     // + 1 (trilinear) or floor(u) - 1 .. floor(u) + 2 (cubic), so at most ceil(reach) + 1
@@ -170,13 +193,15 @@ void NormalExtension::apply(Body& body) {
     apply_tensor(body, core_cells_);
 }
 
-void NormalExtension::apply_tensor(Body& body, real core_cells, const Field* weight) {
+void NormalExtension::apply_tensor(Body& body, real core_cells, const Field* weight,
+                                   const Field* area) {
     SymmetricTensorField& G = body.tensor();
     if (G.comp.empty()) return;
     std::vector<const Field*> fields;
     for (const Field& c : G.comp)
         fields.push_back(&c);
     if (weight) fields.push_back(weight);
+    if (weight && area) fields.push_back(area);
     if (!prepare(body, fields)) return;
     const Decomposition& dec = halos_.decomposition();
     const GlobalGrid& g = dec.grid();
@@ -189,6 +214,7 @@ void NormalExtension::apply_tensor(Body& body, real core_cells, const Field* wei
         real s = 0;
         Real3 n;
         std::array<std::array<real, 3>, 3> T{};
+        real target_j = 0; // > 0: the copy's area ratio J is set to this
         if (!normal_at(p, s, n)) {
             for (int s2 = 0; s2 < ncomp; ++s2)
                 G.comp[s2](p) = 0;
@@ -215,6 +241,7 @@ void NormalExtension::apply_tensor(Body& body, real core_cells, const Field* wei
                 const real w = interpolate(src_[ncomp], at);
                 for (int s2 = 0; s2 < ncomp; ++s2)
                     v[s2] = w > 1e-3 ? v[s2] / w : (s2 < dim ? 1.0 : 0.0);
+                if (area && w > 1e-3) target_j = interpolate(src_[ncomp + 1], at) / w;
             }
             for (int a = 0; a < 3; ++a)
                 for (int b = 0; b < 3; ++b) {
@@ -236,6 +263,17 @@ void NormalExtension::apply_tensor(Body& body, real core_cells, const Field* wei
                 if (sl < 0) continue;
                 G.comp[sl](p) = T[a][b] - n[a] * tn[b] - tn[a] * n[b] + ntn * n[a] * n[b];
             }
+        // area_filter: the copy's area ratio set to the low-passed J at the foot point (3D:
+        // Gs scales J linearly; 2D: J^2 = Gs_xx + Gs_yy, one tangent and the unit z stretch).
+        if (target_j > 0) {
+            const real own = area_ratio(G, p);
+            if (own > 0) {
+                const real r = target_j / own;
+                const real scale = dim == 3 ? r : r * r;
+                for (Field& c : G.comp)
+                    c(p) *= scale;
+            }
+        }
     });
     for (Field& c : G.comp)
         halos_.fill(c, body.patch());
@@ -287,7 +325,10 @@ void NormalExtension::apply_reference_map(Body& body, bool whole_band, const Sha
     });
     for (Field& c : X)
         halos_.fill(c, body.patch());
-    // 2. Gs from grad X = I + grad (X - x) (central differences) in the band, I elsewhere.
+    // 2. Gs from grad X = I + grad (X - x) (fourth-order central differences: with second-order
+    //    ones the rest state's area ratio came out 0.4 % high at R = 8 cells, a prestress of
+    //    0.4 % of the area modulus, 22 % of Es in a Skalak membrane with C = 100) in the band,
+    //    I elsewhere.
     //    X is constant along the normals, so at distance s its gradient is the surface's
     //    taken along the parallel surface through x: grad_y X = grad_x X (I - s W)^-1, W =
     //    P Hess(psi) P the parallel surface's shape operator (second differences of psi).
@@ -307,7 +348,7 @@ void NormalExtension::apply_reference_map(Body& body, bool whole_band, const Sha
         if (normal_at(p, s, n) && std::abs(s) <= near) {
             Matrix3 gx = identity_matrix();
             for (int a = 0; a < dim; ++a) {
-                const Real3 ga = central_gradient(X[a], g, p);
+                const Real3 ga = central_gradient4(X[a], g, p, dim);
                 for (int b = 0; b < dim; ++b)
                     gx[a][b] += ga[b];
             }
@@ -364,13 +405,46 @@ void NormalExtension::apply_reference_map(Body& body, bool whole_band, const Sha
     });
     for (Field& c : G.comp)
         halos_.fill(c, body.patch());
+    // 2b. (area_filter) J of the rebuilt Gs, low-passed: the (1, 2, 1)^dim weighted mean over
+    //     the valid cells of each valid cell's 3^dim block. Step 3 then sets every band cell's
+    //     area ratio to this J at its foot point. J is a scalar, so the mean has no bias from
+    //     the tangent plane turning between the cells (a mean of Gs tensors has: -0.2 % in
+    //     area at R = 8 cells); the (1, 2, 1) weights remove the grid-scale (2h) mode, which
+    //     grows in an area-stiff membrane (docs/method.md, "The area ratio, low-passed").
+    if (area_filter_) {
+        halos_.fill(valid_, body.patch());
+        auto fresh = [&](Field& f, const char* name) {
+            if (f.data().empty() || f.begin() != X[0].begin() || f.cells() != X[0].cells())
+                f = Field::on_patch(name, Location::Cell, X[0].begin(), X[0].cells(), dim, 1);
+            f.fill(0);
+        };
+        fresh(area_ratio_, "area_ratio");
+        fresh(filtered_area_ratio_, "filtered_area_ratio");
+        for_each_in(body.phi().owned(), [&](int i, int j, int k) {
+            if (valid_(i, j, k) != 0) area_ratio_(i, j, k) = area_ratio(G, {i, j, k});
+        });
+        halos_.fill(area_ratio_, body.patch());
+        const int kr = dim == 3 ? 1 : 0;
+        for_each_in(body.phi().owned(), [&](int i, int j, int k) {
+            if (valid_(i, j, k) == 0) return;
+            real sum = 0, weight = 0;
+            for (int c = -kr; c <= kr; ++c)
+                for (int b = -1; b <= 1; ++b)
+                    for (int a = -1; a <= 1; ++a) {
+                        const real w = (a ? 1.0 : 2.0) * (b ? 1.0 : 2.0) * (c ? 1.0 : 2.0);
+                        weight += w * valid_(i + a, j + b, k + c);
+                        sum += w * area_ratio_(i + a, j + b, k + c);
+                    }
+            filtered_area_ratio_(i, j, k) = sum / weight;
+        });
+    }
     // 3. Every band cell takes P Gs(y) P, Gs(y) interpolated at its foot point (apply() with
     //    a core of 0): Gs is recomputed from X each step, so this copy smooths nothing that
     //    accumulates, and the trilinear mean over the 8 cells around the surface removes the
     //    grid-scale noise that differences of X and second differences of psi carry (keeping
     //    the cells' own values within one cell of the surface gave tr Gs spikes of 8-27 at the
     //    tips of the d/16 Ca 0.05 capsule, against 2.35 with the copy; docs/method.md).
-    apply_tensor(body, 0.0, &valid_);
+    apply_tensor(body, 0.0, &valid_, area_filter_ ? &filtered_area_ratio_ : nullptr);
 }
 
 } // namespace efsi

@@ -40,8 +40,11 @@ class NormalExtension {
     /// is too thin for the interpolation's halo.
     /// `cubic_map`: the reference map is interpolated at the foot points by the tensor-product
     /// 4-point Lagrange interpolant (otherwise trilinear, as Gs always is).
+    /// `area_filter` (reference map): J of the rebuilt strain low-passed over the valid cells
+    /// near the surface, every band cell's Gs rescaled to the J at its foot point.
     NormalExtension(const HaloFiller& halos, const std::string& body_name, real eps_cells,
-                    real core_cells, real reach_cells = -1, bool cubic_map = true);
+                    real core_cells, real reach_cells = -1, bool cubic_map = true,
+                    bool area_filter = false);
 
     /// Replace Gs on the body's patch as described above; fills Gs's halos. Collective.
     void apply(Body& body);
@@ -51,7 +54,9 @@ class NormalExtension {
     /// (|psi| <= core + 2 cells) and extend that Gs over the band as apply() does. `whole_band`:
     /// extend the core too (the initial state, X = x: then X = x - psi n, the closest point, in the
     /// whole band). With `reference` (map_projection), every band cell's X is then put onto
-    /// that shape's surface (onto_reference_surface) before Gs is formed. Collective.
+    /// that shape's surface (onto_reference_surface) before Gs is formed. With the area
+    /// filter, the area ratio J of the Gs formed near the surface is low-passed and each band
+    /// cell's Gs rescaled to the J at its foot point. Collective.
     void apply_reference_map(Body& body, bool whole_band = false, const Shape* reference = nullptr);
 
     real core_cells() const { return core_cells_; }
@@ -62,8 +67,10 @@ class NormalExtension {
 
   private:
     /// apply() with a core of `core_cells`; with `weight`, Gs holds w Gs and the copy is
-    /// the mean over the cells with w = 1 of each foot point's stencil.
-    void apply_tensor(Body& body, real core_cells, const Field* weight = nullptr);
+    /// the mean over the cells with w = 1 of each foot point's stencil; with `area` (w J), each
+    /// copy is rescaled to the mean J over those cells.
+    void apply_tensor(Body& body, real core_cells, const Field* weight = nullptr,
+                      const Field* area = nullptr);
     /// psi and a wide-halo copy of `fields` (src_); false on a rank without the patch.
     bool prepare(Body& body, const std::vector<const Field*>& fields);
     /// The trilinear stencil at x: the index (in src_'s layout) of its low corner and the
@@ -85,10 +92,13 @@ class NormalExtension {
     real core_cells_;
     real reach_cells_;
     bool cubic_map_;
+    bool area_filter_;
     int wide_halo_;
-    Field psi_;              ///< eps atanh(1 - 2 phi), halo 1
-    std::vector<Field> src_; ///< Gs (or X - x) after the transport, wide halos
-    Field valid_;            ///< reference map: 1 where Gs from X is valid, else 0
+    Field psi_;                 ///< eps atanh(1 - 2 phi), halo 1
+    std::vector<Field> src_;    ///< Gs (or X - x) after the transport, wide halos
+    Field valid_;               ///< reference map: 1 where Gs from X is valid, else 0
+    Field area_ratio_;          ///< area_filter: J of the rebuilt Gs on valid cells, halo 1
+    Field filtered_area_ratio_; ///< area_filter: its low-passed value on valid cells
 };
 
 } // namespace efsi
