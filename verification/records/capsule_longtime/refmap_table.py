@@ -101,6 +101,11 @@ RUNS = [
     ("ca0.2_n128_t10_proj", "reference_map, cubic, eps 0.75, projected", 0.2, "neo_hookean", None),
     ("ca0.1_n128_t10_proj", "reference_map, cubic, eps 0.75, projected", 0.1, "neo_hookean", None),
     ("ca0.05_n128_t10_proj", "reference_map, cubic, eps 0.75, projected", 0.05, "neo_hookean", None),
+    # session 25: Skalak C = 100 projected (the grid-scale area mode), and the area ratio
+    # low-passed (map_area_filter, the default since session 25)
+    ("ca0.025_n64_skalak_C100_t0.3_proj", "reference_map, cubic, eps 0.75, projected", 0.025, "skalak", 100.0),
+    ("ca0.025_n64_skalak_C10_from9_t14_areafilter", "projected; area filter from t = 9", 0.025, "skalak", 10.0),
+    ("ca0.05_n64_t4_areafilter", "projected, area filter", 0.05, "neo_hookean", None),
 ]
 
 
