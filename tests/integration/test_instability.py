@@ -70,19 +70,20 @@ trace = max(float(r["tensor_trace_max"]) for r in rows)
 check(abs(t_end - 0.5) < 1e-9 and trace <= 3.01,
       f"stiff membrane, default keys: reached t = {t_end:.3f}, max tr Gs {trace:.4f}")
 
-# (4) a bound on tr Gs the capsule passes (over its band: from 2 at rest towards ~2.33 by
-# t = 0.5 with the default reference map, ~2.4 with the carried Gs).
+# (4) a bound on tr Gs the capsule passes (over its band: from 2 at rest to 2.30 at t = 0.5
+# with the default reference map, whose area filter slows the rise near the end: 2.17 /
+# 2.23 / 2.30 at the last three diagnostics steps; ~2.4 with the carried Gs).
 out = os.path.join(args.output, "tensor_trace")
 coarse = ["grid.cells=[32,32,1]", "grid.length=[8.0,8.0,0.25]", "grid.origin=[-4.0,-4.0,-0.125]",
           "time.end_time=0.5", "output.fields_interval=1.0"]
-proc = run(args, "capsule_shear_2d", out, sets=coarse + ["stability.max_tensor_trace=2.25"],
+proc = run(args, "capsule_shear_2d", out, sets=coarse + ["stability.max_tensor_trace=2.2"],
            expect=3)
 check("UNSTABLE" in proc.stderr and "'capsule'" in proc.stderr and
-      "stability.max_tensor_trace = 2.25" in proc.stderr,
+      "stability.max_tensor_trace = 2.2" in proc.stderr,
       f"tensor bound: message names the body and the key: {proc.stderr.strip()[:240]}")
 with open(os.path.join(out, "bodies.csv")) as f:
     rows = list(csv.DictReader(f))
 traces = [float(r["tensor_trace_max"]) for r in rows]
-check(traces[-1] > 2.25 and all(t <= 2.25 for t in traces[:-1]) and float(rows[-1]["time"]) < 0.5,
+check(traces[-1] > 2.2 and all(t <= 2.2 for t in traces[:-1]) and float(rows[-1]["time"]) < 0.5,
       f"tensor bound: stopped before the end, at the first diagnostics step over it "
       f"(t = {rows[-1]['time']}, {traces[-3:]})")
