@@ -19,11 +19,11 @@ namespace efsi {
 namespace {
 /// J = sqrt(II(Gs)), the area ratio of a tangential Gs (2D: its z row is the unit stretch).
 real area_ratio(const SymmetricTensorField& G, const Int3& p) {
-    real ii = 0;
+    Matrix3 m{};
     for (int a = 0; a < 3; ++a)
-        for (int b = a + 1; b < 3; ++b)
-            ii += G.value(a, a, p) * G.value(b, b, p) - G.value(a, b, p) * G.value(b, a, p);
-    return std::sqrt(std::max(ii, real(0)));
+        for (int b = 0; b < 3; ++b)
+            m[a][b] = G.value(a, b, p);
+    return std::sqrt(std::max(second_invariant(m), real(0)));
 }
 
 /// Fourth-order central differences (the field needs two halo layers).

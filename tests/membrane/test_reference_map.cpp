@@ -12,6 +12,7 @@
 #include "boundary/boundary.hpp"
 #include "core/matrix3.hpp"
 #include "interface/shapes.hpp"
+#include "membrane/kinematics.hpp"
 #include "membrane/normal_extension.hpp"
 #include "membrane/reference_map.hpp"
 #include "membrane_test_grid.hpp"
@@ -164,11 +165,11 @@ Result run(int dim, int m, bool rest, bool identity = false, bool cubic = true, 
     const SymmetricTensorField& G = body.tensor();
     real radial_sum = 0, radial_count = 0, area_sum = 0, area_count = 0;
     auto area_ratio = [&](const Int3& p) {
-        real ii = 0;
+        Matrix3 gs{};
         for (int a = 0; a < 3; ++a)
-            for (int b = a + 1; b < 3; ++b)
-                ii += G.value(a, a, p) * G.value(b, b, p) - G.value(a, b, p) * G.value(b, a, p);
-        return std::sqrt(std::max(ii, real(0)));
+            for (int b = 0; b < 3; ++b)
+                gs[a][b] = G.value(a, b, p);
+        return std::sqrt(std::max(second_invariant(gs), real(0)));
     };
     // J of A P_R A^T with A = I and of the rest state is 1 (the roughness test needs no more).
     const bool unit_area = rest || identity;
