@@ -106,6 +106,7 @@ RUNS = [
     ("ca0.025_n64_skalak_C100_t0.3_proj", "reference_map, cubic, eps 0.75, projected", 0.025, "skalak", 100.0),
     ("ca0.025_n64_skalak_C10_from9_t14_areafilter", "projected; area filter from t = 9", 0.025, "skalak", 10.0),
     ("ca0.05_n64_t4_areafilter", "projected, area filter", 0.05, "neo_hookean", None),
+    ("ca0.025_n64_skalak_C10_t20_areafilter", "projected, area filter", 0.025, "skalak", 10.0),
 ]
 
 
