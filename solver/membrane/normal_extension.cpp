@@ -248,6 +248,10 @@ void NormalExtension::apply_tensor(Body& body, real core_cells, const Field* wei
                     const int sl = SymmetricTensorField::slot(a, b, dim);
                     T[a][b] = sl >= 0 ? v[sl] : (a == 2 && b == 2 ? G.zz_2d : 0.0);
                 }
+            // The reference map's copy is turned into this cell's tangent plane before it is
+            // projected onto it, so a normal that differs from the foot point's (far out in
+            // the band, where psi's gradient is least accurate) costs no area.
+            if (weight) T = turned_into_plane(T, n, dim);
         }
         // P T P with P = I - n n: T - n (n.T) - (T.n) n + (n.T.n) n n.
         Real3 tn{0, 0, 0};

@@ -28,6 +28,62 @@ Matrix3 surface_tensor_from_map(const Matrix3& gx, const Real3& n, int dim) {
     return G;
 }
 
+Matrix3 turned_into_plane(const Matrix3& T, const Real3& n, int dim) {
+    auto dot = [](const Real3& a, const Real3& b) {
+        return a[0] * b[0] + a[1] * b[1] + a[2] * b[2];
+    };
+    auto cross = [](const Real3& a, const Real3& b) {
+        return Real3{a[1] * b[2] - a[2] * b[1], a[2] * b[0] - a[0] * b[2],
+                     a[0] * b[1] - a[1] * b[0]};
+    };
+    Real3 m{0, 0, 0};
+    if (dim == 3) {
+        real best = 0;
+        for (int a = 0; a < 3; ++a)
+            for (int b = a + 1; b < 3; ++b) {
+                const Real3 c = cross(T[a], T[b]);
+                if (dot(c, c) > best) {
+                    best = dot(c, c);
+                    m = c;
+                }
+            }
+    } else {
+        const Real3& r =
+            T[0][0] * T[0][0] + T[0][1] * T[0][1] >= T[1][0] * T[1][0] + T[1][1] * T[1][1] ? T[0]
+                                                                                           : T[1];
+        m = Real3{-r[1], r[0], 0};
+    }
+    const real norm = std::sqrt(dot(m, m));
+    if (!(norm > 0)) return T;
+    for (real& c : m)
+        c /= norm;
+    if (dot(m, n) < 0)
+        for (real& c : m)
+            c = -c;
+    // Rodrigues: R = I + [v]x + [v]x^2 / (1 + c), v = m x n, c = m . n >= 0.
+    const Real3 v = cross(m, n);
+    const real c = dot(m, n);
+    const Matrix3 K{Real3{0, -v[2], v[1]}, Real3{v[2], 0, -v[0]}, Real3{-v[1], v[0], 0}};
+    Matrix3 R = identity_matrix();
+    for (int a = 0; a < 3; ++a)
+        for (int b = 0; b < 3; ++b) {
+            real kk = 0;
+            for (int e = 0; e < 3; ++e)
+                kk += K[a][e] * K[e][b];
+            R[a][b] += K[a][b] + kk / (1 + c);
+        }
+    Matrix3 RT{}, out{};
+    for (int a = 0; a < 3; ++a)
+        for (int b = 0; b < 3; ++b)
+            for (int e = 0; e < 3; ++e)
+                RT[a][b] += R[a][e] * T[e][b];
+    for (int a = 0; a < 3; ++a)
+        for (int b = 0; b < 3; ++b)
+            for (int e = 0; e < 3; ++e)
+                out[a][b] += RT[a][e] * R[b][e];
+    return out;
+}
+
 Real3 onto_reference_surface(const Shape& shape, const Real3& X, int dim,
                              const std::array<bool, 3>& periodic, const Real3& period, real z2d) {
     Real3 y = X, shift{0, 0, 0};

@@ -25,6 +25,15 @@ class Shape;
 /// (entries past `dim` are ignored; in 2D the z stretch is 1 and Gs_zz = 1).
 Matrix3 surface_tensor_from_map(const Matrix3& gx, const Real3& n, int dim);
 
+/// T turned so that the plane it lies in becomes the plane normal to n: R T R^T, R the
+/// smallest rotation that takes T's null direction m (the normal of its own plane: for a
+/// surface tensor mean over the cells at a foot point, the foot point's normal) onto n.
+/// Unlike the projection P T P (P = I - n n), which shrinks the tilted direction by the
+/// cosine of the tilt and with it the area, the rotation keeps T's trace and area ratio.
+/// 3D: m is the cross product of two rows of T (they span its plane), the pair spanning the
+/// most; 2D: the in-plane perpendicular of the longer row of the xy block (z untouched).
+Matrix3 turned_into_plane(const Matrix3& T, const Real3& n, int dim);
+
 /// The reference surface's point nearest to the map value X (map_projection): the reference
 /// configuration of every surface point lies on the shape's surface, so a band cell's X (its
 /// foot point's) does too. Along a periodic direction X may hold the body's image one period

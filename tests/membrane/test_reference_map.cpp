@@ -87,6 +87,42 @@ TEST(ReferenceMap, LinearMapGivesAPrAt) {
     }
 }
 
+// The copy's turn into a cell's tangent plane (normal_extension.cpp, step 3): a surface
+// tensor lying in the plane normal to m, turned to the plane normal to n, lies in that plane
+// (G n = 0), keeps its trace and area ratio and is the same tensor when m = n; the projection
+// P G P it replaces loses area as the cosine of the tilt.
+TEST(ReferenceMap, TurnIntoPlaneKeepsTraceAndArea) {
+    for (int dim : {2, 3}) {
+        const Matrix3 A = deformation(dim);
+        const Real3 N = dim == 3 ? unit(Real3{0.3, -0.7, 0.5}) : unit(Real3{0.6, -0.8, 0});
+        const Matrix3 G = exact_gs(A, N);
+        const Real3 gm = unit(mat_vec(transpose(inverse(A)), N)); // G gm = 0
+        for (real tilt : {0.0, 0.2, 0.8}) {
+            // n: gm turned by `tilt` radians about an axis normal to it (in-plane in 2D).
+            const Real3 e = dim == 3 ? unit(Real3{gm[1], -gm[0], 0}) : Real3{-gm[1], gm[0], 0};
+            Real3 n{};
+            for (int a = 0; a < 3; ++a)
+                n[a] = std::cos(tilt) * gm[a] + std::sin(tilt) * e[a];
+            const Matrix3 T = turned_into_plane(G, n, dim);
+            const Real3 tn = mat_vec(T, n);
+            for (int a = 0; a < 3; ++a)
+                EXPECT_NEAR(tn[a], 0.0, 1e-12) << "dim " << dim << " tilt " << tilt;
+            EXPECT_NEAR(T[0][0] + T[1][1] + T[2][2], G[0][0] + G[1][1] + G[2][2], 1e-12);
+            EXPECT_NEAR(second_invariant(T), second_invariant(G), 1e-12);
+            if (tilt == 0.0) {
+                for (int a = 0; a < 3; ++a)
+                    for (int b = 0; b < 3; ++b)
+                        EXPECT_NEAR(T[a][b], G[a][b], 1e-13);
+            }
+            if (dim == 3 && tilt > 0) {
+                // The projection keeps less area than G has.
+                const Matrix3 P = tangential_part(G, n, dim);
+                EXPECT_LT(second_invariant(P), second_invariant(G) * std::cos(tilt) + 1e-12);
+            }
+        }
+    }
+}
+
 namespace {
 
 struct Result {
