@@ -107,6 +107,12 @@ RUNS = [
     ("ca0.025_n64_skalak_C10_from9_t14_areafilter", "projected; area filter from t = 9", 0.025, "skalak", 10.0),
     ("ca0.05_n64_t4_areafilter", "projected, area filter", 0.05, "neo_hookean", None),
     ("ca0.025_n64_skalak_C10_t20_areafilter", "projected, area filter", 0.025, "skalak", 10.0),
+    # session 26: each copy turned into its cell's tangent plane before the projection (93ed07a); the area-filter d/8 run before it
+    ("ca0.05_n32_t10_areafilter", "projected, area filter", 0.05, "neo_hookean", None),
+    ("ca0.05_n32_t10_turn", "projected, area filter, turned copy", 0.05, "neo_hookean", None),
+    ("ca0.2_n32_t10_turn", "projected, area filter, turned copy", 0.2, "neo_hookean", None),
+    ("ca0.05_n64_t4_turn", "projected, area filter, turned copy", 0.05, "neo_hookean", None),
+    ("ca0.2_n32_t10_areafilter", "projected, area filter", 0.2, "neo_hookean", None),
 ]
 
 
