@@ -75,10 +75,11 @@ bool NormalExtension::prepare(Body& body, const std::vector<const Field*>& field
     const real eps = eps_cells_ * dec.grid().dx(0);
     if (!empty) {
         if (psi_.data().empty() || psi_.begin() != phi.begin() || psi_.cells() != phi.cells() ||
-            int(src_.size()) != ncomp) {
+            int(src_.size()) != ncomp + 1) {
             psi_ = Field::on_patch("psi", Location::Cell, phi.begin(), phi.cells(), dim, 1);
             src_.clear();
-            for (int s = 0; s < ncomp; ++s)
+            // the fields, then psi (with the wide halo: foot points are checked against it)
+            for (int s = 0; s <= ncomp; ++s)
                 src_.push_back(Field::on_patch("extension_source", Location::Cell, phi.begin(),
                                                phi.cells(), dim, wide_halo_));
         }
@@ -91,6 +92,7 @@ bool NormalExtension::prepare(Body& body, const std::vector<const Field*>& field
                 real* p = &psi_(own.lo[0], j, k);
                 for (int i = 0; i < nx; ++i)
                     p[i] = profile_distance(f[i], eps);
+                std::copy(p, p + nx, &src_[ncomp](own.lo[0], j, k));
                 for (int s = 0; s < ncomp; ++s) {
                     const real* from = fields[s]->data().data() + fields[s]->index(own.lo[0], j, k);
                     std::copy(from, from + nx, &src_[s](own.lo[0], j, k));
@@ -175,6 +177,11 @@ real NormalExtension::interpolate_cubic(const Field& f, const Real3& x) const {
     return r;
 }
 
+bool NormalExtension::foot_on_surface(const Trilinear& at) const {
+    return std::abs(interpolate(src_.back(), at)) <=
+           kFootTolerance * halos_.decomposition().grid().dx(0);
+}
+
 bool NormalExtension::normal_at(const Int3& p, real& s, Real3& n) const {
     const GlobalGrid& g = halos_.decomposition().grid();
     s = psi_(p);
@@ -232,6 +239,14 @@ void NormalExtension::apply_tensor(Body& body, real core_cells, const Field* wei
                 y[d] -= s * n[d];
             // One set of weights serves every component (src_ fields share one layout).
             const Trilinear at = trilinear_at(y);
+            if (weight && !foot_on_surface(at)) {
+                // No surface where the normal leads (a thin body's middle): no membrane
+                // strain here. Gs = 0 (J = 0) is what the force leaves out of its band
+                // (MembraneForceSettings::min_area_ratio) and the diagnostics skip.
+                for (int s2 = 0; s2 < ncomp; ++s2)
+                    G.comp[s2](p) = 0;
+                return;
+            }
             std::array<real, 6> v{};
             for (int s2 = 0; s2 < ncomp; ++s2)
                 v[s2] = interpolate(src_[s2], at);
@@ -314,10 +329,13 @@ void NormalExtension::apply_reference_map(Body& body, bool whole_band, const Sha
             Real3 y = x;
             for (int d = 0; d < dim; ++d)
                 y[d] -= s * n[d];
-            for (int d = 0; d < dim; ++d)
-                X[d](p) = (cubic_map_ ? interpolate_cubic(src_[d], y)
-                                      : interpolate(src_[d], trilinear_at(y))) -
-                          s * n[d];
+            // A foot point off the surface (a thin body's middle, where psi's gradient turns)
+            // has no map to copy: the cell keeps its transported X.
+            if (foot_on_surface(trilinear_at(y)))
+                for (int d = 0; d < dim; ++d)
+                    X[d](p) = (cubic_map_ ? interpolate_cubic(src_[d], y)
+                                          : interpolate(src_[d], trilinear_at(y))) -
+                              s * n[d];
         }
         if (!reference) return;
         Real3 Xp = x;

@@ -382,3 +382,56 @@ TEST(ReferenceMap, AreaFilterSmoothsAGridScaleAreaRatio) {
         EXPECT_LT(std::abs(filtered.area_bias), 1e-3) << "dim " << dim;
     }
 }
+
+// A thin slab (the middle of a strongly deformed capsule, a red cell's dimple) whose phi is
+// the product of its two faces' profiles, as transport leaves it: in the middle, psi is
+// shallower than the distance, so a cell's foot point x - psi n lands inside the slab, off
+// the surface. Such cells hold no strain (Gs = 0, which the force leaves out); every cell
+// whose foot point is on the surface holds the rest strain P. Both kinds must occur.
+TEST(ReferenceMap, FootPointOffTheSurfaceHoldsNoStrain) {
+    const real h = 0.01;
+    GridSetup s = efsi::test::make_setup(3, {24, 40, 24}, h, BoundaryType::Periodic);
+    Body body("slab", BodyKind::Membrane, false, 3, true, /*reference_map=*/true);
+    body.allocate(make_patch(Box{{0, 0, 0}, s.g.cells}, *s.dec));
+    const real eps = h, y0 = 0.2, half = 2.0 * h; // 4 cells thick
+    for_each_in(body.patch().local, [&](int i, int j, int k) {
+        const Real3 x = position(s.g, s.dec->block(), Location::Cell, i, j, k);
+        const real top = 0.5 * (1 - std::tanh((x[1] - y0 - half) / eps));
+        const real bottom = 0.5 * (1 - std::tanh((y0 - half - x[1]) / eps));
+        const real v = top * bottom;
+        body.phi()(i, j, k) = v < 1e-8 ? 0.0 : v;
+        for (int d = 0; d < 3; ++d)
+            body.reference_map()[d](i, j, k) = 0; // X = x: the rest state
+    });
+    s.halos->fill(body.phi(), body.patch());
+    NormalExtension ext(*s.halos, "slab", 1.0, 1.0, -1, true, true);
+    ext.apply_reference_map(body, true, nullptr);
+    const SymmetricTensorField& G = body.tensor();
+    int off = 0, on = 0;
+    real worst = 0;
+    for_each_in(body.patch().local, [&](int i, int j, int k) {
+        const Real3 x = position(s.g, s.dec->block(), Location::Cell, i, j, k);
+        const real f = body.phi()(i, j, k);
+        if (f <= 1e-5 || f >= 1 - 1e-5) return;
+        const Int3 p{i, j, k};
+        real norm = 0;
+        for (int a = 0; a < 3; ++a)
+            for (int b = 0; b < 3; ++b)
+                norm += std::abs(G.value(a, b, p));
+        if (norm == 0) {
+            ++off;
+            // only in the slab's inner half
+            EXPECT_LT(std::abs(x[1] - y0), half) << "y = " << x[1];
+            return;
+        }
+        ++on;
+        const Matrix3 P{Real3{1, 0, 0}, Real3{0, 0, 0}, Real3{0, 0, 1}};
+        for (int a = 0; a < 3; ++a)
+            for (int b = 0; b < 3; ++b)
+                worst = std::max(worst, std::abs(G.value(a, b, p) - P[a][b]));
+    });
+    const int off_all = int(s.dec->sum(real(off))), on_all = int(s.dec->sum(real(on)));
+    EXPECT_GT(off_all, 0);
+    EXPECT_GT(on_all, off_all);
+    EXPECT_LT(s.dec->max(worst), 1e-6);
+}
