@@ -107,12 +107,18 @@ RUNS = [
     ("ca0.025_n64_skalak_C10_from9_t14_areafilter", "projected; area filter from t = 9", 0.025, "skalak", 10.0),
     ("ca0.05_n64_t4_areafilter", "projected, area filter", 0.05, "neo_hookean", None),
     ("ca0.025_n64_skalak_C10_t20_areafilter", "projected, area filter", 0.025, "skalak", 10.0),
-    # session 26: each copy turned into its cell's tangent plane before the projection (93ed07a); the area-filter d/8 run before it
+    # session 26: each copy turned into its cell's tangent plane before the projection
+    # (93ed07a), with the area-filter runs before it (d/8; d/16 Ca 0.2)
     ("ca0.05_n32_t10_areafilter", "projected, area filter", 0.05, "neo_hookean", None),
     ("ca0.05_n32_t10_turn", "projected, area filter, turned copy", 0.05, "neo_hookean", None),
     ("ca0.2_n32_t10_turn", "projected, area filter, turned copy", 0.2, "neo_hookean", None),
     ("ca0.05_n64_t4_turn", "projected, area filter, turned copy", 0.05, "neo_hookean", None),
     ("ca0.2_n32_t10_areafilter", "projected, area filter", 0.2, "neo_hookean", None),
+    ("ca0.2_n64_t20_areafilter", "projected, area filter", 0.2, "neo_hookean", None),
+    ("ca0.2_n64_t20_turn", "projected, area filter, turned copy", 0.2, "neo_hookean", None),
+    # session 26: with the foot-point check (ad9d416): a cell whose foot point is off the
+    # surface holds no strain
+    ("ca0.2_n64_t20_foot", "projected, area filter, turned copy, foot check", 0.2, "neo_hookean", None),
 ]
 
 
