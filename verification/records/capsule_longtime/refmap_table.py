@@ -119,6 +119,15 @@ RUNS = [
     # session 26: with the foot-point check (ad9d416): a cell whose foot point is off the
     # surface holds no strain
     ("ca0.2_n64_t20_foot", "projected, area filter, turned copy, foot check", 0.2, "neo_hookean", None),
+    # session 26: the study's runs with the default of ad9d416 (d/8 to t = 10, d/16 to t = 20, d/32 to t = 10)
+    ("ca0.05_n32_t10_foot", "projected, area filter, turned copy, foot check", 0.05, "neo_hookean", None),
+    ("ca0.2_n32_t10_foot", "projected, area filter, turned copy, foot check", 0.2, "neo_hookean", None),
+    ("ca0.1_n64_t20_foot", "projected, area filter, turned copy, foot check", 0.1, "neo_hookean", None),
+    ("ca0.05_n64_t20_foot", "projected, area filter, turned copy, foot check", 0.05, "neo_hookean", None),
+    ("ca0.025_n64_t20_foot", "projected, area filter, turned copy, foot check", 0.025, "neo_hookean", None),
+    ("ca0.0125_n64_t20_foot", "projected, area filter, turned copy, foot check", 0.0125, "neo_hookean", None),
+    ("ca0.05_n64_bend0.01_t20_foot", "projected, area filter, turned copy, foot check", 0.05, "neo_hookean", None),
+    ("ca0.0125_n128_t10_turn", "projected, area filter, turned copy", 0.0125, "neo_hookean", None),
 ]
 
 
