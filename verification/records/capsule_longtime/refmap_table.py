@@ -129,6 +129,7 @@ RUNS = [
     ("ca0.05_n64_bend0.01_t20_foot", "projected, area filter, turned copy, foot check", 0.05, "neo_hookean", None),
     ("ca0.0125_n128_t10_turn", "projected, area filter, turned copy", 0.0125, "neo_hookean", None),
     ("ca0.025_n64_skalak_C1_t20_foot", "projected, area filter, turned copy, foot check", 0.025, "skalak", 1.0),
+    ("ca0.025_n64_skalak_C10_t3_foot", "projected, area filter, turned copy, foot check", 0.025, "skalak", 10.0),
 ]
 
 
