@@ -133,6 +133,8 @@ RUNS = [
     ("ca0.2_n128_t10_foot", "projected, area filter, turned copy, foot check", 0.2, "neo_hookean", None),
     ("ca0.05_n128_t10_foot", "projected, area filter, turned copy, foot check", 0.05, "neo_hookean", None),
     ("ca0.1_n128_t10_foot", "projected, area filter, turned copy, foot check", 0.1, "neo_hookean", None),
+    ("ca0.025_n128_t10_foot", "projected, area filter, turned copy, foot check", 0.025, "neo_hookean", None),
+    ("ca0.025_n64_skalak_C10_t8_foot", "projected, area filter, turned copy, foot check", 0.025, "skalak", 10.0),
 ]
 
 
