@@ -317,8 +317,12 @@ std::vector<BodyDiagnostics> BodySystem::measure() const {
                     g.origin[k] +
                     std::fmod(std::fmod(centre[k] - g.origin[k], g.length[k]) + g.length[k],
                               g.length[k]);
-        // Second moments about the centroid (x-y block) and the area integral of |grad phi|.
+        // Second moments about the centroid (x-y block) and the area integral of |grad phi|;
+        // the same moments of the sharp body chi (BodyDiagnostics::taylor_deformation_sharp),
+        // about chi's own centroid: its sums relative to phi's centroid, shifted after.
         real mxx = 0, myy = 0, mxy = 0, area = 0;
+        real cv = 0, cx = 0, cy = 0, cxx = 0, cyy = 0, cxy = 0;
+        const real h = g.dx(0);
         if (!b.patch().empty())
             for_each_in(b.phi().owned(), [&](int a, int bb, int c) {
                 const real p = b.phi()(a, bb, c);
@@ -328,18 +332,37 @@ std::vector<BodyDiagnostics> BodySystem::measure() const {
                 myy += p * dy * dy;
                 mxy += p * dx * dy;
                 const Real3 gr = gradient_at(b.phi(), g, {a, bb, c}, GradientStencil::Isotropic);
-                area += std::sqrt(gr[0] * gr[0] + gr[1] * gr[1] + gr[2] * gr[2]);
+                const real gn = std::sqrt(gr[0] * gr[0] + gr[1] * gr[1] + gr[2] * gr[2]);
+                area += gn;
+                const real chi = gn * h > 1e-12 ? std::clamp(0.5 + (p - 0.5) / (gn * h), 0.0, 1.0)
+                                                : (p > 0.5 ? 1.0 : 0.0);
+                cv += chi;
+                cx += chi * dx;
+                cy += chi * dy;
+                cxx += chi * dx * dx;
+                cyy += chi * dy * dy;
+                cxy += chi * dx * dy;
             });
         mxx = dec_.sum(mxx);
         myy = dec_.sum(myy);
         mxy = dec_.sum(mxy);
         d.area = dec_.sum(area) * g.cell_volume();
-        const real mean = 0.5 * (mxx + myy);
-        const real dev = std::sqrt(0.25 * (mxx - myy) * (mxx - myy) + mxy * mxy);
-        const real L = std::sqrt(std::max(mean + dev, 0.0)),
-                   B = std::sqrt(std::max(mean - dev, 0.0));
-        d.taylor_deformation = L + B > 0 ? (L - B) / (L + B) : 0.0;
+        auto deformation = [](real xx, real yy, real xy) {
+            const real mean = 0.5 * (xx + yy);
+            const real dev = std::sqrt(0.25 * (xx - yy) * (xx - yy) + xy * xy);
+            const real L = std::sqrt(std::max(mean + dev, 0.0)),
+                       B = std::sqrt(std::max(mean - dev, 0.0));
+            return L + B > 0 ? (L - B) / (L + B) : 0.0;
+        };
+        d.taylor_deformation = deformation(mxx, myy, mxy);
         d.inclination_over_pi = 0.5 * std::atan2(2 * mxy, mxx - myy) / 3.141592653589793;
+        cv = dec_.sum(cv);
+        if (cv > 0) {
+            const real mx = dec_.sum(cx) / cv, my = dec_.sum(cy) / cv;
+            d.taylor_deformation_sharp =
+                deformation(dec_.sum(cxx) / cv - mx * mx, dec_.sum(cyy) / cv - my * my,
+                            dec_.sum(cxy) / cv - mx * my);
+        }
         real trace_max = 0, reference_area = 0;
         const SymmetricTensorField& T = b.tensor();
         // A membrane's Gs means the membrane's stretch only in its band (beyond it is I or

@@ -32,6 +32,12 @@ struct BodyDiagnostics {
     /// semi-axes, so L, B = the square roots of the eigenvalues of their x-y block.
     real taylor_deformation = 0;
     real inclination_over_pi = 0;
+    /// The same D of the body bounded by phi = 1/2: phi replaced by a ramp one cell wide
+    /// across that level, chi = clamp(1/2 + (phi - 1/2) / (h |grad phi|), 0, 1). A smoothed
+    /// profile's tails blur the moments of phi isotropically (by a few tenths of a cell
+    /// squared), which lowers D by O((eps / a)^2); chi's ramp is one cell wide whatever the
+    /// profile, so this D converges to the phi = 1/2 surface's (docs/method.md, "Measuring D").
+    real taylor_deformation_sharp = 0;
     /// Largest tr(B) over the cells with phi > 0 (solid; 3 at rest) or tr(Gs) over the
     /// membrane's band 1e-5 < phi < 1 - 1e-5 (2 at rest in 3D and 2D); 0 without a tensor.
     /// Bounded in a steady deformation (docs/method.md, Solids).

@@ -62,19 +62,30 @@ nlohmann::json to_json(const SeedingReport& sr) {
 
 } // namespace
 
-void drop_rows_after(const fs::path& file, double t) {
+void drop_rows_after(const fs::path& file, double t, const std::string& header) {
     std::ifstream in(file);
     if (!in) return;
-    std::string line, kept;
-    bool header = true;
+    std::string line, kept, pad;
+    bool first = true;
     while (std::getline(in, line)) {
+        if (first) {
+            first = false;
+            // An older header that the current one extends: upgrade it, pad the rows.
+            if (!header.empty() && header.size() > line.size() &&
+                header.compare(0, line.size(), line) == 0 && header[line.size()] == ',') {
+                for (std::size_t i = line.size(); i < header.size(); ++i)
+                    if (header[i] == ',') pad += ",nan";
+                line = header;
+            }
+            kept += line + "\n";
+            continue;
+        }
         const auto a = line.find(',');
         const auto b = a == std::string::npos ? a : line.find(',', a + 1);
-        if (!header && b != std::string::npos &&
+        if (b != std::string::npos &&
             std::stod(line.substr(a + 1, b - a - 1)) > t + 1e-12 * std::max(1.0, std::abs(t)))
             continue;
-        kept += line + "\n";
-        header = false;
+        kept += line + pad + "\n";
     }
     in.close();
     std::ofstream(file) << kept;
@@ -83,7 +94,7 @@ void drop_rows_after(const fs::path& file, double t) {
 const char* bodies_csv_header() {
     return "step,time,body,volume,centroid_x,centroid_y,centroid_z,phi_min,phi_max,"
            "clipped_volume,patch_cells,bytes,area,taylor_deformation,inclination_over_pi,"
-           "tensor_trace_max,reference_area";
+           "tensor_trace_max,reference_area,taylor_deformation_sharp";
 }
 
 bool append_body_rows(const fs::path& file, long step, real time,
@@ -91,11 +102,11 @@ bool append_body_rows(const fs::path& file, long step, real time,
     std::ofstream out(file, std::ios::app);
     for (const BodyDiagnostics& b : bodies)
         out << fmt::format("{},{:.10e},{},{:.12e},{:.10e},{:.10e},{:.10e},{:.6e},"
-                           "{:.6e},{:.3e},{},{},{:.10e},{:.8e},{:.8e},{:.8e},{:.10e}\n",
+                           "{:.6e},{:.3e},{},{},{:.10e},{:.8e},{:.8e},{:.8e},{:.10e},{:.8e}\n",
                            step, time, b.name, b.volume, b.centroid[0], b.centroid[1],
                            b.centroid[2], b.phi_min, b.phi_max, b.clipped_volume, b.patch_cells,
                            b.bytes, b.area, b.taylor_deformation, b.inclination_over_pi,
-                           b.tensor_trace_max, b.reference_area);
+                           b.tensor_trace_max, b.reference_area, b.taylor_deformation_sharp);
     out.close();
     return static_cast<bool>(out);
 }

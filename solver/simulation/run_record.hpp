@@ -24,8 +24,11 @@ namespace efsi {
 
 /// Keep the header and the rows up to time t (the second column) of a CSV an earlier run
 /// wrote: a restart from a checkpoint older than the run's last step redoes the steps after
-/// it, whose old rows would otherwise stay in the file next to the new ones.
-void drop_rows_after(const std::filesystem::path& file, double t);
+/// it, whose old rows would otherwise stay in the file next to the new ones. With `header`
+/// (the line this version writes) and a file whose header is a shorter prefix of it (written
+/// before columns were added at the end), the header becomes `header` and each kept row gets
+/// `nan` for every added column, so the rows the restart appends match the header.
+void drop_rows_after(const std::filesystem::path& file, double t, const std::string& header = {});
 
 /// The first line of bodies.csv (without its newline).
 const char* bodies_csv_header();

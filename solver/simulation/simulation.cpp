@@ -156,7 +156,8 @@ Simulation::Simulation(const Config& config, const RunOptions& options, MPI_Comm
         // checkpoint's time), but starts the files if absent.
         if (!opt_.restart_file.empty())
             for (const char* name : {"diagnostics.csv", "bodies.csv", "adhesion.csv"})
-                drop_rows_after(opt_.output_dir / name, state_->time);
+                drop_rows_after(opt_.output_dir / name, state_->time,
+                                std::string(name) == "bodies.csv" ? bodies_csv_header() : "");
         if (opt_.restart_file.empty() || !fs::exists(opt_.output_dir / "diagnostics.csv")) {
             std::ofstream(opt_.output_dir / "diagnostics.csv") << Diagnostics::csv_header() << "\n";
             if (bodies_)

@@ -75,3 +75,48 @@ radius = 0.1
     EXPECT_EQ(m->dt, s.physics(1).time_step_limits()[0].dt);
     EXPECT_EQ(find_limit(limits, "bending"), nullptr);
 }
+
+// D of the body bounded by phi = 1/2 (BodyDiagnostics::taylor_deformation_sharp). On a
+// smoothed ellipsoid both measures give (a - b) / (a + b); faint tails of phi (as a carried
+// profile grows where the flow stretches it) move the moments of phi but not the sharp body.
+TEST(BodySystem, SharpTaylorDeformationIgnoresFaintTails) {
+    Bodies s(R"(
+[grid]
+cells = [40, 40, 40]
+length = [1.0, 1.0, 1.0]
+
+[fluid]
+density = 1.0
+viscosity = 1.0
+
+[time]
+end_time = 1.0
+
+[[body]]
+name = "capsule"
+kind = "membrane"
+elastic_modulus = 1.0
+shape = "ellipsoid"
+semi_axes = [0.3, 0.18, 0.24]
+centre = [0.5, 0.5, 0.5]
+interface = "smoothed"
+smoothing_width = 1.0
+)");
+    const real exact = (0.3 - 0.18) / (0.3 + 0.18);
+    const auto before = s.system.measure();
+    EXPECT_NEAR(before[0].taylor_deformation, exact, 1e-3);
+    EXPECT_NEAR(before[0].taylor_deformation_sharp, exact, 1e-3);
+    // A faint needle of phi = 0.1 along x through the body (0.1 x 0.1 in cross-section).
+    const GlobalGrid& g = s.dec.grid();
+    Field& phi = s.body(0).phi();
+    for_each_in(phi.owned(), [&](int i, int j, int k) {
+        const Real3 x = position(g, s.dec.block(), Location::Cell, i, j, k);
+        if (std::abs(x[1] - 0.5) < 0.05 && std::abs(x[2] - 0.5) < 0.05 && phi(i, j, k) < 0.1)
+            phi(i, j, k) = 0.1;
+    });
+    s.halos.fill(phi);
+    const auto after = s.system.measure();
+    EXPECT_GT(after[0].taylor_deformation - before[0].taylor_deformation, 5e-3);
+    EXPECT_LT(std::abs(after[0].taylor_deformation_sharp - before[0].taylor_deformation_sharp),
+              1e-4);
+}

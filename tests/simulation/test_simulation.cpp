@@ -1,5 +1,6 @@
 // The run loop (simulation/simulation.cpp) with bodies: the time step is chosen from the
 // bodies' named limits, and summary.json names them and the one that set the last step.
+#include "simulation/run_record.hpp"
 #include "simulation/simulation.hpp"
 #include "test_support.hpp"
 
@@ -7,9 +8,11 @@
 
 #include <filesystem>
 #include <fstream>
+#include <sstream>
 
 using namespace efsi;
 using efsi::test::case_from;
+namespace fs = std::filesystem;
 
 namespace {
 
@@ -76,4 +79,24 @@ TEST(Simulation, NoBodyNoLimits) {
     const nlohmann::json j = run_and_read_summary(fluid_only, "fluid");
     EXPECT_TRUE(j["time_step_limits"].empty());
     EXPECT_EQ(j["limited_by"], "body force");
+}
+
+// A restart drops the rows past the checkpoint; a bodies.csv written before columns were
+// added at the end gets the current header and `nan` in the added columns of its old rows.
+TEST(RunRecord, RestartUpgradesAnOlderHeader) {
+    const fs::path file = fs::temp_directory_path() / "efsi_test_drop_rows.csv";
+    std::ofstream(file) << "step,time,a\n0,0.0,1\n1,0.5,2\n2,1.0,3\n";
+    drop_rows_after(file, 0.5, "step,time,a,b,c");
+    std::ifstream in(file);
+    std::stringstream all;
+    all << in.rdbuf();
+    EXPECT_EQ(all.str(), "step,time,a,b,c\n0,0.0,1,nan,nan\n1,0.5,2,nan,nan\n");
+    // The current header: rows dropped only.
+    std::ofstream(file) << "step,time,a\n0,0.0,1\n1,0.5,2\n";
+    drop_rows_after(file, 0.0, "step,time,a");
+    std::ifstream in2(file);
+    std::stringstream all2;
+    all2 << in2.rdbuf();
+    EXPECT_EQ(all2.str(), "step,time,a\n0,0.0,1\n");
+    fs::remove(file);
 }

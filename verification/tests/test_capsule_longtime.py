@@ -35,3 +35,33 @@ def test_metric_tags_follow_the_issue():
     assert longtime.tag(0.05, 16, "neo_hookean", None, 0.0) == "ca0.05_n64"
     assert longtime.tag(0.025, 16, "skalak", 100.0, 0.0) == "ca0.025_n64_skalak_C100"
     assert abs(longtime.steady_reference(0.0125, "neo_hookean", None) - 0.078125) < 1e-12
+
+
+def _write_run(out: Path, sharp_rows):
+    """A run folder with bodies.csv (a `taylor_deformation_sharp` column filled from
+    `sharp_rows`: None drops the column) and summary.json."""
+    import json
+    out.mkdir(parents=True)
+    cols = ["step", "time", "body", "volume", "area", "taylor_deformation",
+            "inclination_over_pi", "tensor_trace_max", "reference_area"]
+    if sharp_rows is not None:
+        cols.append("taylor_deformation_sharp")
+    lines = [",".join(cols)]
+    for i, t in enumerate([0.0, 1.0, 2.0, 3.0, 4.0]):
+        row = [str(i), str(t), "capsule", "4.19", "12.6", str(0.1 * t / 4), "0.2", "2.0", "12.6"]
+        if sharp_rows is not None:
+            row.append(sharp_rows[i])
+        lines.append(",".join(row))
+    (out / "bodies.csv").write_text("\n".join(lines) + "\n")
+    (out / "summary.json").write_text(json.dumps({"status": "completed", "bodies": []}))
+
+
+def test_sharp_steady_d_is_the_last_quarters_mean_and_only_when_measured(tmp_path):
+    _write_run(tmp_path / "a", ["0", "0.02", "0.05", "0.08", "0.12"])
+    assert abs(longtime.measure(tmp_path / "a")["steady_D_sharp"] - 0.10) < 1e-12
+    # Restarted by the version that added the column: the older rows hold nan. A last
+    # quarter with nan is not a measurement.
+    _write_run(tmp_path / "b", ["nan", "nan", "nan", "nan", "0.12"])
+    assert longtime.measure(tmp_path / "b")["steady_D_sharp"] is None
+    _write_run(tmp_path / "c", None)
+    assert longtime.measure(tmp_path / "c")["steady_D_sharp"] is None
