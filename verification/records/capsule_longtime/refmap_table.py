@@ -135,6 +135,8 @@ RUNS = [
     ("ca0.1_n128_t10_foot", "projected, area filter, turned copy, foot check", 0.1, "neo_hookean", None),
     ("ca0.025_n128_t10_foot", "projected, area filter, turned copy, foot check", 0.025, "neo_hookean", None),
     ("ca0.025_n64_skalak_C10_t8_foot", "projected, area filter, turned copy, foot check", 0.025, "skalak", 10.0),
+    # session 27: Skalak C = 10 continued to t = 20
+    ("ca0.025_n64_skalak_C10_t20_foot", "projected, area filter, turned copy, foot check", 0.025, "skalak", 10.0),
 ]
 
 
