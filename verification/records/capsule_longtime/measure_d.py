@@ -4,6 +4,8 @@
 
     /usr/bin/python3 verification/records/capsule_longtime/measure_d.py [RUNS_DIR] > measure_d.json
     /usr/bin/python3 verification/records/capsule_longtime/measure_d.py --table  (docs/method.md's table)
+    /usr/bin/python3 verification/records/capsule_longtime/measure_d.py --early  (D(t) of the
+        d/32 records at early times against both published curves, docs/method.md)
 
 - moments: the second moments of phi in the shear plane (bodies.csv `taylor_deformation`,
   what the studies' steady_D are the means of);
@@ -15,6 +17,7 @@
 RUNS_DIR (default build/verification/capsule_longtime/runs) holds the study's runs; each
 listed run's last field snapshot is read (the cases' box: 8 x 8 x 8, origin -4).
 """
+import csv
 import json
 import sys
 from pathlib import Path
@@ -77,9 +80,33 @@ def table():
               f"{m['volume_sharp']:.3f} / {d['sphere_volume']:.3f} |")
 
 
+def early():
+    """D(t) of the d/32 records (moments of phi, bodies.csv) at t = 0.5 / 1 / 1.5 against
+    Pozrikidis 1995 and Ramanujan & Pozrikidis 1998 (verification/data/capsule_shear)."""
+    here = Path(__file__).resolve().parent
+    data = here.parents[1] / "data" / "capsule_shear"
+    print("| Ca | t | efsi d/32 | Pozrikidis 1995 | RP98 |")
+    print("|---|---|---|---|---|")
+    for ca in (0.05, 0.1, 0.2):
+        rows = list(csv.DictReader(open(here / f"ca{ca:g}_n128_t10_foot" / "bodies.csv")))
+        t = np.array([float(r["time"]) for r in rows])
+        D = np.array([float(r["taylor_deformation"]) for r in rows])
+        curves = []
+        for name in ("pozrikidis1995", "ramanujan_pozrikidis1998"):
+            c = np.loadtxt(data / f"{name}_ca{ca:g}.csv", delimiter=",")
+            curves.append(c[np.argsort(c[:, 0])])
+        for tt in (0.5, 1.0, 1.5):
+            ref = ["%.4f" % np.interp(tt, c[:, 0], c[:, 1]) if c[0, 0] <= tt <= c[-1, 0] else "-"
+                   for c in curves]
+            print(f"| {ca:g} | {tt:g} | {np.interp(tt, t, D):.4f} | {ref[0]} | {ref[1]} |")
+
+
 def main():
     if sys.argv[1:] == ["--table"]:
         table()
+        return
+    if sys.argv[1:] == ["--early"]:
+        early()
         return
     runs = Path(sys.argv[1]) if len(sys.argv) > 1 else Path("build/verification/capsule_longtime/runs")
     out = {"sphere_volume": 4 * np.pi / 3, "runs": {}}
