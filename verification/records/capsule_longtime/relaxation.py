@@ -5,7 +5,8 @@ relaxation"): the effective stiffness of the discrete membrane, without tank-tre
     /usr/bin/python3 verification/records/capsule_longtime/relaxation.py OUT N[:BOX[:W]] ... > relaxation.json
     /usr/bin/python3 verification/records/capsule_longtime/relaxation.py --table  (docs/method.md)
 
-N cells per diameter; BOX the box in radii (8, the cases' box, unless given: 16 doubles it,
+N cells per diameter (then, comma-separated, extra case keys for both runs, key=value as
+for --set: "16,body[0].strain_model=\"tensor\"" or "16,time.cfl=0.25"); BOX the box in radii (8, the cases' box, unless given: 16 doubles it,
 with its walls at +-8 moving at +-8 while sheared); W the smoothing width in cells (the
 case's 0.75 unless given).
 
@@ -40,7 +41,8 @@ EFSI = REPO / "build" / "bin" / "efsi"
 CA, T_SHEAR, T_RELAX = 0.0125, 0.6, 0.6
 
 
-def run(out: Path, n: int, t_end: float, restart: Path = None, stopped=False, box=8, width=None):
+def run(out: Path, n: int, t_end: float, restart: Path = None, stopped=False, box=8, width=None,
+        extra=()):
     cells = n * box // 2
     cmd = [str(EFSI), "run", str(REPO / "cases" / "capsule_shear"), "-o", str(out),
            "--set", f"grid.cells=[{cells},{cells},{cells}]",
@@ -49,6 +51,8 @@ def run(out: Path, n: int, t_end: float, restart: Path = None, stopped=False, bo
            "--set", "output.fields_interval=1000.0", "--set", "output.diagnostics_every=1"]
     if width is not None:
         cmd += ["--set", f"body[0].smoothing_width={width!r}"]
+    for kv in extra:
+        cmd += ["--set", kv]
     if box != 8:
         half = box / 2
         cmd += ["--set", f"grid.length=[{box:.1f},{box:.1f},{box:.1f}]",
@@ -113,12 +117,13 @@ def fit(relax: Path, t0: float) -> dict:
 def table():
     """docs/method.md's table from relaxation.json (beside this script)."""
     d = json.loads((Path(__file__).parent / "relaxation.json").read_text())
-    print("| run | box [a] | smoothing width [cells] | D0 | tau | tau / 12.5 Ca |")
-    print("|---|---|---|---|---|---|")
+    print("| run | box [a] | smoothing width [cells] | other keys | D0 | tau | tau / 12.5 Ca |")
+    print("|---|---|---|---|---|---|---|")
     for name, m in d["runs"].items():
         box = name.split("_box")[1].split("_")[0] if "_box" in name else "8"
-        w = name.split("_w")[1] if "_w" in name else "0.75"
-        print(f"| {name} | {box} | {w} | {m['D0']:.4f} | {m['tau']:.4f} | "
+        w = name.split("_w")[1].split("_")[0] if "_w" in name else "0.75"
+        keys = ", ".join(p for p in name.split("_", 1)[-1:] if "=" in p) or "-"
+        print(f"| {name} | {box} | {w} | {keys} | {m['D0']:.4f} | {m['tau']:.4f} | "
               f"{m['tau_over_theory']:.3f} |")
 
 
@@ -128,16 +133,20 @@ def main():
         return
     root, out = Path(sys.argv[1]), {}
     for spec in sys.argv[2:]:
+        spec, *extra = spec.split(",")
         parts = spec.split(":")
         n, box = int(parts[0]), int(parts[1]) if len(parts) > 1 else 8
         width = float(parts[2]) if len(parts) > 2 else None
         name = f"d{n}" + (f"_box{box}" if box != 8 else "") + (f"_w{width:g}" if width else "")
+        name += "".join("_" + kv.split("=")[0].split(".")[-1] + "=" +
+                        kv.split("=", 1)[1].replace('"', "") for kv in extra)
         d = root / name
-        run(d / "shear", n, T_SHEAR, box=box, width=width)
+        run(d / "shear", n, T_SHEAR, box=box, width=width, extra=extra)
         ck = d / "checkpoint_stopped.h5"
         ck.write_bytes((d / "shear" / "checkpoint.h5").read_bytes())
         stop_walls(ck)
-        run(d / "relax", n, T_SHEAR + T_RELAX, restart=ck, stopped=True, box=box, width=width)
+        run(d / "relax", n, T_SHEAR + T_RELAX, restart=ck, stopped=True, box=box, width=width,
+            extra=extra)
         out[name] = fit(d / "relax", T_SHEAR)
     json.dump({"Ca": CA, "shear_until": T_SHEAR, "runs": out}, sys.stdout, indent=1)
     print()
