@@ -6,7 +6,10 @@ relaxation"): the effective stiffness of the discrete membrane, without tank-tre
     /usr/bin/python3 verification/records/capsule_longtime/relaxation.py --table  (docs/method.md)
 
 N cells per diameter (then, comma-separated, extra case keys for both runs, key=value as
-for --set: "16,body[0].strain_model=\"tensor\"" or "16,time.cfl=0.25"); BOX the box in radii (8, the cases' box, unless given: 16 doubles it,
+for --set: "16,body[0].strain_model=\"tensor\"" or "16,time.cfl=0.25"; "ca=0.025" sets the
+capillary number instead of 0.0125, and a Skalak law with "body[0].law=\"skalak\"" and
+"body[0].area_dilation=C" takes the small-deformation D = 5/4 (2 + 3C)/(1 + 2C) x 1.5 Ca
+of capsule_shear.py in place of 25/4 Ca); BOX the box in radii (8, the cases' box, unless given: 16 doubles it,
 with its walls at +-8 moving at +-8 while sheared); W the smoothing width in cells (the
 case's 0.75 unless given).
 
@@ -42,11 +45,11 @@ CA, T_SHEAR, T_RELAX = 0.0125, 0.6, 0.6
 
 
 def run(out: Path, n: int, t_end: float, restart: Path = None, stopped=False, box=8, width=None,
-        extra=()):
+        extra=(), ca=CA):
     cells = n * box // 2
     cmd = [str(EFSI), "run", str(REPO / "cases" / "capsule_shear"), "-o", str(out),
            "--set", f"grid.cells=[{cells},{cells},{cells}]",
-           "--set", f"body[0].elastic_modulus={1 / CA!r}", "--set", "fluid.density=0.0001",
+           "--set", f"body[0].elastic_modulus={1 / ca!r}", "--set", "fluid.density=0.0001",
            "--set", f"time.end_time={t_end!r}", "--set", "output.checkpoint_every=100000",
            "--set", "output.fields_interval=1000.0", "--set", "output.diagnostics_every=1"]
     if width is not None:
@@ -100,7 +103,14 @@ def stop_walls(checkpoint: Path):
         put("attributes_checksum", f"{h:016x}")
 
 
-def fit(relax: Path, t0: float) -> dict:
+def steady_small_deformation(ca: float, extra) -> float:
+    if any(kv.replace(" ", "") == 'body[0].law="skalak"' for kv in extra):
+        c = float(next(kv.split("=", 1)[1] for kv in extra if kv.startswith("body[0].area_dilation=")))
+        return 1.25 * (2 + 3 * c) / (1 + 2 * c) * 1.5 * ca
+    return 25.0 / 4.0 * ca
+
+
+def fit(relax: Path, t0: float, ca: float = CA, extra=()) -> dict:
     rows = list(csv.DictReader(open(relax / "bodies.csv")))
     t = np.array([float(r["time"]) for r in rows])
     D = np.array([float(r["taylor_deformation_sharp"]) for r in rows])
@@ -109,21 +119,23 @@ def fit(relax: Path, t0: float) -> dict:
     w = (D <= 0.6 * D[0]) & (D >= 0.15 * D[0])
     slope = np.polyfit(t[w], np.log(D[w]), 1)[0]
     tau = -1.0 / slope
-    return {"D0": float(D[0]), "tau": float(tau), "tau_theory": 12.5 * CA,
-            "tau_over_theory": float(tau / (12.5 * CA)), "fit_points": int(w.sum()),
+    theory = 2 * steady_small_deformation(ca, extra)
+    return {"Ca": ca, "D0": float(D[0]), "tau": float(tau), "tau_theory": theory,
+            "tau_over_theory": float(tau / theory), "fit_points": int(w.sum()),
             "fit_window": [float(t[w][0]), float(t[w][-1])]}
 
 
 def table():
     """docs/method.md's table from relaxation.json (beside this script)."""
     d = json.loads((Path(__file__).parent / "relaxation.json").read_text())
-    print("| run | box [a] | smoothing width [cells] | other keys | D0 | tau | tau / 12.5 Ca |")
-    print("|---|---|---|---|---|---|---|")
+    print("| run | box [a] | smoothing width [cells] | other keys | D0 | tau | theory | tau / theory |")
+    print("|---|---|---|---|---|---|---|---|")
     for name, m in d["runs"].items():
         box = name.split("_box")[1].split("_")[0] if "_box" in name else "8"
         w = name.split("_w")[1].split("_")[0] if "_w" in name else "0.75"
         keys = ", ".join(p for p in name.split("_", 1)[-1:] if "=" in p) or "-"
         print(f"| {name} | {box} | {w} | {keys} | {m['D0']:.4f} | {m['tau']:.4f} | "
+              f"{m.get('tau_theory', 12.5 * CA):.4f} | "
               f"{m['tau_over_theory']:.3f} |")
 
 
@@ -134,20 +146,23 @@ def main():
     root, out = Path(sys.argv[1]), {}
     for spec in sys.argv[2:]:
         spec, *extra = spec.split(",")
+        ca = float(next((kv[3:] for kv in extra if kv.startswith("ca=")), CA))
+        extra = [kv for kv in extra if not kv.startswith("ca=")]
         parts = spec.split(":")
         n, box = int(parts[0]), int(parts[1]) if len(parts) > 1 else 8
         width = float(parts[2]) if len(parts) > 2 else None
         name = f"d{n}" + (f"_box{box}" if box != 8 else "") + (f"_w{width:g}" if width else "")
-        name += "".join("_" + kv.split("=")[0].split(".")[-1] + "=" +
-                        kv.split("=", 1)[1].replace('"', "") for kv in extra)
+        name += (f"_ca{ca:g}" if ca != CA else "") + "".join(
+            "_" + kv.split("=")[0].split(".")[-1] + "=" + kv.split("=", 1)[1].replace('"', "")
+            for kv in extra)
         d = root / name
-        run(d / "shear", n, T_SHEAR, box=box, width=width, extra=extra)
+        run(d / "shear", n, T_SHEAR, box=box, width=width, extra=extra, ca=ca)
         ck = d / "checkpoint_stopped.h5"
         ck.write_bytes((d / "shear" / "checkpoint.h5").read_bytes())
         stop_walls(ck)
         run(d / "relax", n, T_SHEAR + T_RELAX, restart=ck, stopped=True, box=box, width=width,
-            extra=extra)
-        out[name] = fit(d / "relax", T_SHEAR)
+            extra=extra, ca=ca)
+        out[name] = fit(d / "relax", T_SHEAR, ca, extra)
     json.dump({"Ca": CA, "shear_until": T_SHEAR, "runs": out}, sys.stdout, indent=1)
     print()
 
