@@ -85,18 +85,18 @@ TEST(Simulation, NoBodyNoLimits) {
 // added at the end gets the current header and `nan` in the added columns of its old rows.
 TEST(RunRecord, RestartUpgradesAnOlderHeader) {
     const fs::path file = fs::temp_directory_path() / "efsi_test_drop_rows.csv";
+    auto contents = [&] {
+        std::ifstream in(file);
+        std::stringstream all;
+        all << in.rdbuf();
+        return all.str();
+    };
     std::ofstream(file) << "step,time,a\n0,0.0,1\n1,0.5,2\n2,1.0,3\n";
     drop_rows_after(file, 0.5, "step,time,a,b,c");
-    std::ifstream in(file);
-    std::stringstream all;
-    all << in.rdbuf();
-    EXPECT_EQ(all.str(), "step,time,a,b,c\n0,0.0,1,nan,nan\n1,0.5,2,nan,nan\n");
+    EXPECT_EQ(contents(), "step,time,a,b,c\n0,0.0,1,nan,nan\n1,0.5,2,nan,nan\n");
     // The current header: rows dropped only.
     std::ofstream(file) << "step,time,a\n0,0.0,1\n1,0.5,2\n";
     drop_rows_after(file, 0.0, "step,time,a");
-    std::ifstream in2(file);
-    std::stringstream all2;
-    all2 << in2.rdbuf();
-    EXPECT_EQ(all2.str(), "step,time,a\n0,0.0,1\n");
+    EXPECT_EQ(contents(), "step,time,a\n0,0.0,1\n");
     fs::remove(file);
 }
