@@ -33,10 +33,10 @@ struct BodyDiagnostics {
     real taylor_deformation = 0;
     real inclination_over_pi = 0;
     /// The same D of the body bounded by phi = 1/2: phi replaced by a ramp one cell wide
-    /// across that level, chi = clamp(1/2 + (phi - 1/2) / (h |grad phi|), 0, 1). A smoothed
-    /// profile's tails blur the moments of phi isotropically (by a few tenths of a cell
-    /// squared), which lowers D by O((eps / a)^2); chi's ramp is one cell wide whatever the
-    /// profile, so this D converges to the phi = 1/2 surface's (docs/method.md, "Measuring D").
+    /// across that level, chi = clamp(1/2 + (phi - 1/2) / (h |grad phi|), 0, 1). Once the
+    /// flow has carried a smoothed profile, its tails are no longer a function of the distance
+    /// to the surface and their moments bias D; chi ignores the tails, so this D is the
+    /// phi = 1/2 surface's (docs/method.md, "Measuring D").
     real taylor_deformation_sharp = 0;
     /// Largest tr(B) over the cells with phi > 0 (solid; 3 at rest) or tr(Gs) over the
     /// membrane's band 1e-5 < phi < 1 - 1e-5 (2 at rest in 3D and 2D); 0 without a tensor.
