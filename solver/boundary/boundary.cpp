@@ -19,6 +19,7 @@ std::string to_string(BoundaryType t) {
 }
 
 real FaceBoundary::velocity_at(int c, real t) const {
+    if (t >= stop_time) return 0;
     return frequency > 0 ? velocity[c] * std::sin(frequency * t) : velocity[c];
 }
 

@@ -16,6 +16,7 @@
 #include "parallel/decomposition.hpp"
 
 #include <array>
+#include <limits>
 #include <string>
 
 namespace efsi {
@@ -26,6 +27,8 @@ struct FaceBoundary {
     BoundaryType type = BoundaryType::Periodic;
     Real3 velocity{0, 0, 0}; ///< wall velocity [m/s] (tangential only), for Wall
     real frequency = 0;      ///< angular frequency [rad/s]: velocity * sin(frequency t); 0 = steady
+    /// time [s] from which the wall stands still (velocity 0); infinity = never
+    real stop_time = std::numeric_limits<real>::infinity();
 
     /// Wall velocity component c at time t.
     real velocity_at(int c, real t) const;

@@ -6,6 +6,7 @@
 #include <fmt/core.h>
 
 #include <algorithm>
+#include <cmath>
 #include <fstream>
 #include <sstream>
 
@@ -44,7 +45,9 @@ std::string case_fingerprint(const Config& c) {
                                                                 : "free_slip";
             line(
                 std::string("boundary.") + faces[d][side],
-                fmt::format("{} velocity {} frequency {:.17g}", type, r3(f.velocity), f.frequency));
+                fmt::format("{} velocity {} frequency {:.17g}", type, r3(f.velocity), f.frequency) +
+                    (std::isfinite(f.stop_time) ? fmt::format(" stop_time {:.17g}", f.stop_time)
+                                                : std::string()));
         }
     line("fluid.density", fmt::format("{:.17g}", c.fluid.density));
     line("fluid.viscosity", fmt::format("{:.17g}", c.fluid.viscosity));
@@ -173,8 +176,18 @@ FaceBoundary read_face(TableReader& parent, const std::string& key) {
                     "wall velocity (tangential components only), for type = wall");
     const real frequency = sub.number("frequency", 0.0, Range::non_negative(), "rad/s",
                                       "wall: oscillate as velocity * sin(frequency t); 0 = steady");
+    const real stop_time =
+        sub.number("stop_time", 0.0, Range::non_negative(), "s",
+                   "wall: stands still (velocity 0) from this time on, e.g. to let a sheared "
+                   "body relax; 0 = never stops");
     sub.finish();
     f.frequency = frequency;
+    if (stop_time > 0) {
+        if (type != "wall")
+            throw InputError(fmt::format("{} = {:g}: only a wall stops (the face is {})",
+                                         sub.full("stop_time"), stop_time, type));
+        f.stop_time = stop_time;
+    }
     f.type = type == "periodic" ? BoundaryType::Periodic
              : type == "wall"   ? BoundaryType::Wall
                                 : BoundaryType::FreeSlip;

@@ -4,6 +4,7 @@
 #include "config/config.hpp"
 #include "parallel/decomposition.hpp"
 #include "test_support.hpp"
+#include <cmath>
 
 #include <filesystem>
 #include <toml++/toml.h>
@@ -53,7 +54,7 @@ viscosity = 0.1
 x_low = "periodic"
 x_high = { type = "periodic" }
 y_low = { type = "free_slip" }
-y_high = { type = "wall", velocity = [1.5, 0.0, -0.5] }
+y_high = { type = "wall", velocity = [1.5, 0.0, -0.5], stop_time = 0.75 }
 z_low = "periodic"
 z_high = "periodic"
 
@@ -122,6 +123,7 @@ TEST(Config, FullCaseReadsEveryKey) {
     EXPECT_EQ(c.name, "full");
     EXPECT_EQ(c.grid.origin, (Real3{-1.0, 0.5, 0.25}));
     EXPECT_EQ(c.boundaries[1][0].type, BoundaryType::FreeSlip);
+    EXPECT_DOUBLE_EQ(c.boundaries[1][1].stop_time, 0.75);
     EXPECT_EQ(c.body_force, (Real3{0.5, 0, 0}));
     EXPECT_EQ(c.initial.type, "couette");
     EXPECT_EQ(c.time.max_steps, 100);
@@ -389,6 +391,36 @@ TEST(Config, WallMovingAlongItsNormalIsAnError) {
                                            "{ type = \"wall\", velocity = [0.0, -0.1, 0.0] }"}});
                 }),
                 HasSubstr("boundary.y_low.velocity"));
+}
+
+// A wall with stop_time moves until then and stands still from then on (the relaxation test
+// of a sheared capsule, docs/method.md); it is absent from the fingerprint of a case without
+// it, so checkpoints written before the key existed still restart.
+TEST(Config, WallStopTimeStopsTheWallAndOnlyAWall) {
+    const Config moving = case_from(base_case);
+    EXPECT_FALSE(std::isfinite(moving.boundaries[1][1].stop_time));
+    EXPECT_DOUBLE_EQ(moving.boundaries[1][1].velocity_at(0, 1e6), 1.5);
+    const Config stops = case_from(
+        base_case,
+        {{"boundary.y_high", "{ type = \"wall\", velocity = [1.5, 0.0, -0.5], stop_time = 0.5 }"}});
+    const FaceBoundary& f = stops.boundaries[1][1];
+    EXPECT_DOUBLE_EQ(f.velocity_at(0, 0.49), 1.5);
+    EXPECT_DOUBLE_EQ(f.velocity_at(2, 0.49), -0.5);
+    EXPECT_EQ(f.velocity_at(0, 0.5), 0.0);
+    EXPECT_EQ(f.velocity_at(2, 3.0), 0.0);
+    EXPECT_NE(case_fingerprint(stops), case_fingerprint(moving));
+    EXPECT_THAT(case_fingerprint(moving), ::testing::Not(HasSubstr("stop_time")));
+    const std::string msg = input_error_of([] {
+        case_from(base_case, {{"boundary.x_low", "{ type = \"periodic\", stop_time = 1.0 }"},
+                              {"boundary.x_high", "periodic"}});
+    });
+    EXPECT_THAT(msg, HasSubstr("boundary.x_low.stop_time"));
+    EXPECT_THAT(msg, HasSubstr("only a wall"));
+    EXPECT_THAT(
+        input_error_of([] {
+            case_from(base_case, {{"boundary.y_low", "{ type = \"wall\", stop_time = -1.0 }"}});
+        }),
+        HasSubstr("boundary.y_low.stop_time"));
 }
 
 TEST(Config, ImpossibleGeometriesAreErrors) {
