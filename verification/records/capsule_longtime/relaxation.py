@@ -26,41 +26,30 @@ tau = 2 x 25/4 Ca / shear rate = 12.5 Ca (= 0.156 here). tau / 12.5 Ca > 1 means
 membrane is that much softer than the continuous one (the walls at 4 a also slow the
 relaxation by a few per cent: not removed here). Output: JSON on stdout.
 """
-import csv
 import json
 import subprocess
 import sys
 from pathlib import Path
 
-import numpy as np
-
 REPO = Path(__file__).resolve().parents[3]
+sys.path.insert(0, str(REPO / "verification" / "studies"))
+from membrane_relaxation import CA, T_SHEAR, run_sets  # noqa: E402
+from membrane_relaxation import fit as study_fit  # noqa: E402
+
 EFSI = REPO / "build" / "bin" / "efsi"
-CA, T_SHEAR, T_RELAX = 0.0125, 0.6, 0.6
 
 
 def run(out: Path, n: int, box=8, width=None, extra=(), ca=CA):
-    """Sheared to T_SHEAR, then the walls stand still (boundary.*.stop_time) to the end."""
-    cells = n * box // 2
-    t_end = T_SHEAR + T_RELAX
-    cmd = [str(EFSI), "run", str(REPO / "cases" / "capsule_shear"), "-o", str(out),
-           "--set", f"grid.cells=[{cells},{cells},{cells}]",
-           "--set", f"body[0].elastic_modulus={1 / ca!r}", "--set", "fluid.density=0.0001",
-           "--set", f"time.end_time={t_end!r}", "--set", "output.checkpoint_every=100000",
-           "--set", "output.fields_interval=1000.0", "--set", "output.diagnostics_every=1"]
+    """Sheared to T_SHEAR, then the walls stand still (boundary.*.stop_time) to the end:
+    the study's run (verification/studies/membrane_relaxation.py) with extra keys."""
+    sets = run_sets(n, ca=ca, box=float(box))
     if width is not None:
-        cmd += ["--set", f"body[0].smoothing_width={width!r}"]
+        sets["body[0].smoothing_width"] = repr(width)
+    cmd = [str(EFSI), "run", str(REPO / "cases" / "capsule_shear"), "-o", str(out)]
+    for k, v in sets.items():
+        cmd += ["--set", f"{k}={v}"]
     for kv in extra:
         cmd += ["--set", kv]
-    half = box / 2
-    if box != 8:
-        cmd += ["--set", f"grid.length=[{box:.1f},{box:.1f},{box:.1f}]",
-                "--set", f"grid.origin=[{-half:.1f},{-half:.1f},{-half:.1f}]",
-                "--set", f"initial.amplitude={half!r}"]
-    # The case's walls at y = -+4 move at -+4 (box 8); a doubled box moves its own.
-    for face, v in (("y_low", -half), ("y_high", half)):
-        cmd += ["--set", f'boundary.{face}={{type="wall",velocity=[{v!r},0.0,0.0],'
-                         f'stop_time={T_SHEAR!r}}}']
     subprocess.run(cmd, check=True, stdout=subprocess.DEVNULL)
 
 
@@ -72,18 +61,8 @@ def steady_small_deformation(ca: float, extra) -> float:
 
 
 def fit(relax: Path, t0: float, ca: float = CA, extra=()) -> dict:
-    rows = list(csv.DictReader(open(relax / "bodies.csv")))
-    t = np.array([float(r["time"]) for r in rows])
-    D = np.array([float(r["taylor_deformation_sharp"]) for r in rows])
-    keep = t >= t0 - 1e-9
-    t, D = t[keep] - t0, D[keep]
-    w = (D <= 0.6 * D[0]) & (D >= 0.15 * D[0])
-    slope = np.polyfit(t[w], np.log(D[w]), 1)[0]
-    tau = -1.0 / slope
-    theory = 2 * steady_small_deformation(ca, extra)
-    return {"Ca": ca, "D0": float(D[0]), "tau": float(tau), "tau_theory": theory,
-            "tau_over_theory": float(tau / theory), "fit_points": int(w.sum()),
-            "fit_window": [float(t[w][0]), float(t[w][-1])]}
+    f = study_fit(relax, t0, 2 * steady_small_deformation(ca, extra))
+    return {"Ca": ca, **{k: v for k, v in f.items() if k not in ("t", "D")}}
 
 
 def table():
