@@ -17,7 +17,8 @@ walls at 4 a slow the relaxation by a few per cent (doubling the box removed 0.0
 excess at d/8), so the continuum limit of the ratio is ~1.03, not 1.
 
 Metrics per grid (n = cells per diameter): tau_over_theory_n<n>, tau_n<n>, D0_n<n>,
-completed_n<n>, wall_seconds_n<n>; between consecutive grids, excess_order_n<n>: log2 of
+residual_fraction_n<n> (D at the end over D0: a carrier that forgets its strain leaves the
+capsule a new rest shape, and D levels off), completed_n<n>, wall_seconds_n<n>; between consecutive grids, excess_order_n<n>: log2 of
 the ratio of the excesses (tau / theory - 1) of the coarser and this grid (first order: 1).
 
 Tiers: ci d/8; quick d/8 and d/16; full d/8, d/16, d/32 (d/32: about 10 minutes).
@@ -47,6 +48,12 @@ BOUNDS = [
           "no spurious stiffness: relaxation no faster than the continuum's"),
     Bound(r"tau_over_theory_n[0-9]+", "<=", 1.25,
           "the membrane keeps its strain: relaxation time within 25 % of theory"),
+    # A carrier that forgets its strain leaves a residual D (a new rest shape): the continuum
+    # keeps exp(-0.6 / (1.03 x 0.156)) = 0.024 of D0 at the end; the carried tensor moved by
+    # the local velocity (the red cells' carrier in capillary_coarse) kept 0.13 / 0.16 at
+    # d/8 / 16, its D levelling off; the default map 0.053 / 0.046, still falling.
+    Bound(r"residual_fraction_n[0-9]+", "<=", 0.1,
+          "the capsule returns to its rest shape: D at the end below 10 % of D0"),
     Bound(r"excess_order_n[0-9]+", ">=", 0.5,
           "the softness shrinks with refinement (first order: 1)", tiers=("quick", "full")),
 ]
@@ -89,7 +96,8 @@ def fit(out: Path, t0: float = T_SHEAR, tau_theory: float = TAU_THEORY) -> dict:
     tau = -1.0 / slope
     return {"D0": float(D[0]), "tau": float(tau), "tau_theory": tau_theory,
             "tau_over_theory": float(tau / tau_theory), "fit_points": int(w.sum()),
-            "fit_window": [float(t[w][0]), float(t[w][-1])], "t": t, "D": D}
+            "fit_window": [float(t[w][0]), float(t[w][-1])],
+            "residual_fraction": float(D[-1] / D[0]), "t": t, "D": D}
 
 
 def run(ctx):
@@ -112,11 +120,13 @@ def run(ctx):
         metrics[f"tau_over_theory_{tag}"] = f["tau_over_theory"]
         metrics[f"tau_{tag}"] = f["tau"]
         metrics[f"D0_{tag}"] = f["D0"]
+        metrics[f"residual_fraction_{tag}"] = f["residual_fraction"]
         metrics[f"completed_{tag}"] = 1.0 if s["status"] == "completed" else 0.0
         metrics[f"wall_seconds_{tag}"] = s["wall_seconds"]
         row = {"cells_per_diameter": n, "D0": f["D0"], "tau": f["tau"],
                "tau_theory": f["tau_theory"], "tau_over_theory": f["tau_over_theory"],
-               "fit_points": f["fit_points"], "wall_seconds": s["wall_seconds"]}
+               "fit_points": f["fit_points"], "residual_fraction": f["residual_fraction"],
+               "wall_seconds": s["wall_seconds"]}
         if prev is not None:
             order = float(np.log2((prev - 1) / (f["tau_over_theory"] - 1)))
             metrics[f"excess_order_{tag}"] = order

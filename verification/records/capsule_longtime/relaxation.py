@@ -68,15 +68,17 @@ def fit(relax: Path, t0: float, ca: float = CA, extra=()) -> dict:
 def table():
     """docs/method.md's table from relaxation.json (beside this script)."""
     d = json.loads((Path(__file__).parent / "relaxation.json").read_text())
-    print("| run | box [a] | smoothing width [cells] | other keys | D0 | tau | theory | tau / theory |")
-    print("|---|---|---|---|---|---|---|---|")
+    print("| run | box [a] | smoothing width [cells] | other keys | D0 | tau | theory | tau / theory "
+          "| D / D0 at the end |")
+    print("|---|---|---|---|---|---|---|---|---|")
     for name, m in d["runs"].items():
         box = name.split("_box")[1].split("_")[0] if "_box" in name else "8"
         w = name.split("_w")[1].split("_")[0] if "_w" in name else "0.75"
         keys = ", ".join(p for p in name.split("_", 1)[-1:] if "=" in p) or "-"
         print(f"| {name} | {box} | {w} | {keys} | {m['D0']:.4f} | {m['tau']:.4f} | "
               f"{m.get('tau_theory', 12.5 * CA):.4f} | "
-              f"{m['tau_over_theory']:.3f} |")
+              f"{m['tau_over_theory']:.3f} | "
+              + (f"{m['residual_fraction']:.3f} |" if "residual_fraction" in m else "- |"))
 
 
 def main():
