@@ -20,6 +20,10 @@ direction, 4 x cells per diameter; Skalak / bending runs add _skalak_C<C> / _ben
   implies for the unstrained membrane, constant when Gs stays consistent with the surface;
   its drift is strain the numerics lose (a creeping reference shape). Reported, no bound
   (issue 19 sets none); absent from runs recorded before the column existed.
+- area_tension_ratio_<tag> (Skalak): chi = (1 + 2C) (A_end/A0 - 1) / steady D, the isotropic
+  tension the deformed capsule's area gain needs over the shear tension: the first-order
+  Skalak value compared with holds only where chi << 1 (C = 100 at Ca 0.025: chi ~ 6, D 0.75
+  of it at d/16; docs/method.md "What sets the area-stiff capsule's D");
 - steady_D_sharp_<tag>: the steady D of the body bounded by phi = 1/2 (bodies.csv
   `taylor_deformation_sharp`, docs/method.md "Measuring D"), beside steady_D (the moments of
   phi, which the carried profile's tails bias low; the bias is measured there); reported, the bounds stay on
@@ -99,6 +103,15 @@ def steady_reference(ca: float, law: str, c):
     return STEADY_D_RP98.get(ca, 25.0 / 4.0 * ca)
 
 
+def area_tension_ratio(c: float, area_change: float, d: float) -> float:
+    """chi = (1 + 2C) (A/A0 - 1) / D: the isotropic tension a Skalak membrane needs for the
+    area the deformed capsule has gained, over the shear tension (both in units of the
+    small-strain shear modulus, to leading order). The first-order (small-deformation) D that
+    steady_reference gives for Skalak holds only where chi << 1 (docs/method.md, "What sets
+    the area-stiff capsule's D")."""
+    return (1 + 2 * c) * area_change / d
+
+
 def full_range_error(t, D, ca: float, law: str, eb: float):
     """max |D - D_ref| over the reference's full range within the run (see the docstring);
     None where no reference applies (Skalak, bending, or no curve for this Ca)."""
@@ -167,6 +180,7 @@ def measure(out: Path) -> dict:
             "steady_D_drift": float(abs(D[-1] - D[i34])),
             "max_trace_Gs": float(np.max(trace)),
             "max_area_change": float(np.max(np.abs(area / area[0] - 1))),
+            "area_change_end": float(area[-1] / area[0] - 1),
             "volume_drift": float(abs(v_end / vol[0] - 1)),
             "reference_area_drift": ref_drift, "steady_D_sharp": steady_sharp,
             "status": summary.get("status", "?"), "wall_seconds": summary.get("wall_seconds"),
@@ -217,6 +231,10 @@ def run(ctx):
         metrics[f"reached_end_{key}"] = int(abs(m["t_end"] - t_end) <= 1e-9)
         if ref is not None and eb == 0.0:
             metrics[f"steady_D_error_{key}"] = float(abs(m["steady_D"] - ref))
+        chi = None
+        if law == "skalak" and m["steady_D"] > 0:
+            chi = area_tension_ratio(c, m["area_change_end"], m["steady_D"])
+            metrics[f"area_tension_ratio_{key}"] = chi
         t_run, D_run, _, _ = body_series(out)
         full = full_range_error(t_run, D_run, ca, law, eb)
         if full is not None:
@@ -228,6 +246,7 @@ def run(ctx):
                      "steady D, phi = 1/2 body": ("-" if m["steady_D_sharp"] is None
                                                   else round(m["steady_D_sharp"], 4)),
                      "published steady D": round(ref, 4),
+                     "chi (Skalak)": "-" if chi is None else round(chi, 2),
                      "angle/pi": round(m["steady_angle_over_pi"], 4),
                      "D drift": round(m["steady_D_drift"], 4),
                      "max tr Gs": round(m["max_trace_Gs"], 3),
