@@ -51,7 +51,7 @@ import numpy as np
 
 from _bounds import Bound
 from _flowio import body_series, cached_run, capsule_box_sets
-from capsule_shear import reference_curve
+from capsule_shear import reference_curve, skalak_linear_theory
 
 DESCRIPTION = "capsules to steady state: t reached, steady D / angle, tr Gs, area, volume"
 
@@ -99,7 +99,7 @@ STEADY_D_RP98 = {0.05: 0.26, 0.1: 0.38, 0.2: 0.50}
 
 def steady_reference(ca: float, law: str, c):
     if law == "skalak":
-        return 1.25 * (2 + 3 * c) / (1 + 2 * c) * 1.5 * ca
+        return skalak_linear_theory(ca, c)
     return STEADY_D_RP98.get(ca, 25.0 / 4.0 * ca)
 
 

@@ -31,11 +31,13 @@ import tomllib
 from pathlib import Path
 
 HERE = Path(__file__).resolve().parent
+sys.path.insert(0, str(HERE.parents[1] / "studies"))
+from capsule_shear import skalak_linear_theory  # noqa: E402
 
 
 def linear_d(ca: float, law: str, c: float) -> float:
     if law == "skalak":
-        return 1.25 * (2 + 3 * c) / (1 + 2 * c) * 1.5 * ca
+        return skalak_linear_theory(ca, c)
     return 25.0 / 4.0 * ca
 
 

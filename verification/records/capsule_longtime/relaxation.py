@@ -35,6 +35,7 @@ REPO = Path(__file__).resolve().parents[3]
 sys.path.insert(0, str(REPO / "verification" / "studies"))
 from membrane_relaxation import CA, T_SHEAR, run_sets  # noqa: E402
 from membrane_relaxation import fit as study_fit  # noqa: E402
+from capsule_shear import skalak_linear_theory  # noqa: E402
 
 EFSI = REPO / "build" / "bin" / "efsi"
 
@@ -56,7 +57,7 @@ def run(out: Path, n: int, box=8, width=None, extra=(), ca=CA):
 def steady_small_deformation(ca: float, extra) -> float:
     if any(kv.replace(" ", "") == 'body[0].law="skalak"' for kv in extra):
         c = float(next(kv.split("=", 1)[1] for kv in extra if kv.startswith("body[0].area_dilation=")))
-        return 1.25 * (2 + 3 * c) / (1 + 2 * c) * 1.5 * ca
+        return skalak_linear_theory(ca, c)
     return 25.0 / 4.0 * ca
 
 
