@@ -50,6 +50,25 @@ std::vector<Real3> surface_lattice(const SeedKind& kind, real h) {
     return pts;
 }
 
+/// Surface points of a shape in the lab frame, on the lattice of spacing h through its
+/// centre (as surface_lattice).
+std::vector<Real3> surface_lattice(const Shape& shape, const Real3& c, real radius, real h) {
+    const int n = int(std::ceil(radius / h)) + 1;
+    auto in = [&](int i, int j, int k) {
+        return shape.inside({c[0] + i * h, c[1] + j * h, c[2] + k * h});
+    };
+    std::vector<Real3> pts;
+    for (int k = -n; k <= n; ++k)
+        for (int j = -n; j <= n; ++j)
+            for (int i = -n; i <= n; ++i) {
+                if (!in(i, j, k)) continue;
+                const bool edge = !in(i - 1, j, k) || !in(i + 1, j, k) || !in(i, j - 1, k) ||
+                                  !in(i, j + 1, k) || !in(i, j, k - 1) || !in(i, j, k + 1);
+                if (edge) pts.push_back({c[0] + i * h, c[1] + j * h, c[2] + k * h});
+            }
+    return pts;
+}
+
 /// Surface points of the placed bodies, binned on a regular grid of cells of side 2 r over
 /// a box that holds every body (r the reach of the overlap test): the sphere of radius r
 /// about any point then meets at most 2 x 2 x 2 cells. Each point remembers its body, so a
@@ -114,6 +133,9 @@ void validate(const SeedingRequest& r) {
     for (int d = 0; d < 3; ++d)
         if (!(r.box_hi[d] > r.box_lo[d]))
             throw InputError("seeding: the box to draw centres in is empty");
+    for (const auto& o : r.obstacles)
+        if (!o.shape || !(o.bounding_radius > 0))
+            throw InputError("seeding: an obstacle needs a shape and a bounding radius");
     for (const auto& k : r.kinds)
         if (!(k.volume > 0) || !(k.bounding_radius > 0) || !k.make)
             throw InputError(fmt::format("seeding: kind '{}' needs a volume, a bounding radius "
@@ -186,6 +208,12 @@ class Packing {
         }
         grid_ = std::make_unique<PointGrid>(lo, hi, reach_);
         region_is_distance_ = r.region->level_bounds_distance();
+        // The obstacles' surface points join the grid under ids below -1 (a placement
+        // passes self = -1, a move its index >= 0), so no body ever skips them.
+        for (std::size_t o = 0; o < r.obstacles.size(); ++o) {
+            const SeedObstacle& ob = r.obstacles[o];
+            grid_->add(-2 - int(o), surface_lattice(*ob.shape, ob.centre, ob.bounding_radius, h));
+        }
     }
 
     /// A body of `kind` at (centre, rot) has its centre in the box, lies inside the region
@@ -210,6 +238,14 @@ class Packing {
         // Surface points of this body inside another (a body wholly inside another has no
         // surface points near the other's), for the bodies whose bounding spheres meet.
         shape_ = r_.kinds[kind].make(centre, rot);
+        for (const SeedObstacle& o : r_.obstacles) {
+            const real rr = r_.kinds[kind].bounding_radius + o.bounding_radius + r_.gap;
+            if (dist2(centre, o.centre) >= rr * rr) continue;
+            if (o.shape->inside(centre) || shape_->inside(o.centre)) return false;
+            const real ro2 = o.bounding_radius * o.bounding_radius;
+            for (const Real3& x : pts_)
+                if (dist2(x, o.centre) < ro2 && o.shape->inside(x)) return false;
+        }
         for (std::size_t b = 0; b < bodies.size(); ++b) {
             if (int(b) == self) continue;
             const real rr =

@@ -39,11 +39,20 @@ struct SeedKind {
     std::function<std::unique_ptr<Shape>(const Real3& centre, const Matrix3& rotation)> make;
 };
 
+/// A body already in the scene (given by hand in the case) that the placed bodies keep
+/// clear of, by the gap, exactly as they keep clear of each other. It never moves.
+struct SeedObstacle {
+    const Shape* shape = nullptr;
+    Real3 centre{};
+    real bounding_radius = 0; ///< of a sphere about `centre` that holds the shape
+};
+
 struct SeedingRequest {
     const Shape* region = nullptr; ///< bodies must lie inside (level < 0 at every sample)
     real region_volume = 0;        ///< for the achieved volume fraction
     Real3 box_lo{}, box_hi{};      ///< centres are drawn in this box (the region's bounds)
     std::vector<SeedKind> kinds;
+    std::vector<SeedObstacle> obstacles; ///< bodies given by hand: kept clear of
     /// Placed first: kind k gets exactly counts[k] bodies (e.g. platelets), then kind
     /// `fill_kind` is added until its volume fraction reaches `target_fraction`.
     std::vector<int> counts;

@@ -279,6 +279,18 @@ SeedingReport expand_seeding(toml::table& root, TableReader& top, const GlobalGr
     q.seed = std::uint64_t(seed);
     q.max_candidates = max_candidates;
     q.max_shake_sweeps = max_shake_sweeps;
+    // The bodies given by hand besides the vessel: the cells keep clear of them by the gap.
+    std::vector<std::unique_ptr<Shape>> by_hand;
+    for (const BodyConfig& b : bodies) {
+        if (b.name == vessel) continue;
+        if (!seedable(b.shape))
+            throw InputError(fmt::format("seeding: the body '{}' (shape \"{}\") is in the scene "
+                                         "with the seeded cells, which keep clear only of closed "
+                                         "shapes (sphere, ellipsoid, biconcave disc, box)",
+                                         b.name, keyword(b.shape)));
+        by_hand.push_back(cell_shape(b, b.centre, axis_angle_rotation(b.axis, b.angle)));
+        q.obstacles.push_back({by_hand.back().get(), b.centre, bounding_radius(b) * (1 + 1e-3)});
+    }
     const SeedingResult res = seed_bodies(q);
 
     rep.used = true;

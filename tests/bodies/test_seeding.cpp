@@ -223,6 +223,48 @@ TEST(Seeding, CapillaryAtTwentyPercentIsReachedByShaking) {
     }
 }
 
+// Bodies given by hand (a sphere in the middle of the lumen and a platelet near its wall)
+// are obstacles: no seeded body comes within the gap of them. Checked on a lattice finer
+// than the seeding's, independently of its surface points; the same seed without the
+// obstacles puts bodies where they are, so the check can fail.
+TEST(Seeding, BodiesGivenByHandAreKeptClearOf) {
+    Tube t;
+    const Real3 cs{0, 0, 0}, cp{5 * um, -8.5 * um, 0};
+    const auto sphere = make_sphere(cs, 4 * um);
+    const auto by_hand = platelet().make(cp, identity_rotation());
+    auto hits = [&](const SeedingResult& res) {
+        int bad = 0;
+        const real hf = 0.05 * um;
+        for (const SeededBody& b : res.bodies) {
+            const auto s = check_shape(b);
+            const Real3 e = half_extent(b);
+            const Real3& c = b.centre;
+            bool hit = false;
+            for (real z = c[2] - e[2]; z < c[2] + e[2] && !hit; z += hf)
+                for (real y = c[1] - e[1]; y < c[1] + e[1] && !hit; y += hf)
+                    for (real x = c[0] - e[0]; x < c[0] + e[0] && !hit; x += hf) {
+                        const Real3 p{x, y, z};
+                        if (std::hypot(x - cs[0], y - cs[1], z - cs[2]) > 4.2 * um &&
+                            std::hypot(x - cp[0], y - cp[1], z - cp[2]) > 1.1 * um)
+                            continue;
+                        hit = s->inside(p) && (sphere->level(p) < 0.1 * um || by_hand->inside(p));
+                    }
+            bad += hit;
+        }
+        return bad;
+    };
+    SeedingRequest q = capillary(t, 0.15, 2026);
+    q.obstacles = {{sphere.get(), cs, 4 * um}, {by_hand.get(), cp, 1 * um}};
+    const auto r = seed_bodies(q);
+    ASSERT_TRUE(r.reached) << r.message;
+    EXPECT_EQ(hits(r), 0);
+    EXPECT_EQ(violations(r.bodies, 0.05 * um, 0.1 * um), 0);
+    EXPECT_GT(hits(seed_bodies(capillary(t, 0.15, 2026))), 0);
+    // An obstacle without a shape is refused.
+    q.obstacles = {{nullptr, cs, 4 * um}};
+    EXPECT_THROW(seed_bodies(q), InputError);
+}
+
 TEST(Seeding, AnUnreachableTargetSaysWhatWasReached) {
     Tube t;
     auto req = capillary(t, 0.60, 3);

@@ -95,6 +95,59 @@ TEST(SeedingConfig, ExpandsIntoBodiesToTheTargetHaematocrit) {
     EXPECT_EQ(c.bodies.size(), 1u + platelets + rbc);
 }
 
+// A body given by hand (a platelet near the wall, where a vWF patch would be) is in the
+// scene before the seeding: the seeded cells keep clear of it (checked on a lattice of
+// 0.05 um around it against every cell's shape), and the cells' count is unchanged.
+TEST(SeedingConfig, CellsKeepClearOfBodiesGivenByHand) {
+    const std::string hand = R"(
+[[body]]
+name = "platelet_by_hand"
+kind = "solid"
+shape = "ellipsoid"
+semi_axes = [1.0, 1.0, 0.6]
+centre = [22.0, 2.5, 11.0]
+shear_modulus = 100.0
+)";
+    const std::string text = seeding("target_haematocrit = 0.05\nseed = 3\n");
+    const Config c = case_from(vessel + hand + text.substr(vessel.size()));
+    const Real3 cp{22.0, 2.5, 11.0};
+    const auto by_hand = make_ellipsoid(cp, {1.0, 1.0, 0.6}, identity_rotation());
+    int cells = 0, near = 0;
+    for (const BodyConfig& b : c.bodies) {
+        if (b.name == "wall" || b.name == "platelet_by_hand") continue;
+        ++cells;
+        const Matrix3 rot = axis_angle_rotation(b.axis, b.angle);
+        const bool rbc = b.name.rfind("rbc_", 0) == 0;
+        const auto s = rbc ? make_biconcave_disc(b.centre, rot, {3.91})
+                           : make_ellipsoid(b.centre, {1.0, 1.0, 0.6}, rot);
+        const real reach = (rbc ? 3.91 : 1.0) + 1.0;
+        if (std::hypot(b.centre[0] - cp[0], b.centre[1] - cp[1], b.centre[2] - cp[2]) > reach)
+            continue;
+        ++near;
+        for (real z = cp[2] - 1.0; z <= cp[2] + 1.0; z += 0.05)
+            for (real y = cp[1] - 1.0; y <= cp[1] + 1.0; y += 0.05)
+                for (real x = cp[0] - 1.0; x <= cp[0] + 1.0; x += 0.05)
+                    if (by_hand->inside({x, y, z}))
+                        ASSERT_FALSE(s->inside({x, y, z})) << b.name << " overlaps the hand body";
+    }
+    EXPECT_EQ(c.bodies.size(), 2u + cells);
+    EXPECT_GT(c.seeding.achieved, 0.045);
+    EXPECT_EQ(c.bodies[1].name, "platelet_by_hand");
+    (void)near;
+    // A body of an open shape (a second tube) beside the seeded cells is refused by name.
+    const std::string tube2 = R"(
+[[body]]
+name = "second_tube"
+kind = "solid"
+shape = "tube"
+centre = [22.0, 11.0, 11.0]
+lumen_diameter = 18.0
+pinned = true
+)";
+    const std::string two_tubes = vessel + tube2 + text.substr(vessel.size());
+    EXPECT_THAT(input_error_of([&] { case_from(two_tubes); }), HasSubstr("second_tube"));
+}
+
 TEST(SeedingConfig, TheSameSeedGivesTheSameSceneAndTheResolvedCaseIsThatScene) {
     const Config a = case_from(seeding("target_haematocrit = 0.04\nseed = 11\n"));
     const Config b = case_from(seeding("target_haematocrit = 0.04\nseed = 11\n"));
