@@ -159,9 +159,15 @@ SeedingReport expand_seeding(toml::table& root, TableReader& top, const GlobalGr
     // a wrong value is reported as itself and not as a missing neighbour.
     const auto required_string = documenting ? std::nullopt : std::optional<std::string>("");
     const auto required_number = documenting ? std::nullopt : std::optional<real>(0);
-    const std::string vessel =
-        r.string("vessel", required_string, {},
-                 "name of the [[body]] of shape \"tube\" whose lumen the cells fill");
+    const std::string region =
+        r.string("region", std::string("vessel"), {"vessel", "domain"},
+                 "where the cells go: vessel (the lumen of the tube named by seeding.vessel) "
+                 "or domain (the whole box, kept the gap away from its faces: a channel "
+                 "between walls)");
+    const std::string vessel = r.string(
+        "vessel", region == "domain" ? std::optional<std::string>("") : required_string, {},
+        "name of the [[body]] of shape \"tube\" whose lumen the cells fill "
+        "(region = vessel)");
     const real target = r.number("target_haematocrit", required_number, Range::closed(0, 0.9), "-",
                                  "target volume of the fill kind's cells / lumen volume");
     const int seed = r.integer("seed", 1, Range::closed(0, 2147483647),
@@ -197,14 +203,28 @@ SeedingReport expand_seeding(toml::table& root, TableReader& top, const GlobalGr
     }
     r.finish();
     if (documenting) return rep;
-    for (const char* key : {"vessel", "target_haematocrit"})
-        if (!r.has(key)) throw InputError(fmt::format("seeding.{}: required key is missing", key));
+    const bool in_domain = region == "domain";
+    if (!r.has("target_haematocrit"))
+        throw InputError("seeding.target_haematocrit: required key is missing");
+    if (!in_domain && !r.has("vessel"))
+        throw InputError("seeding.vessel: required key is missing (or region = \"domain\")");
+    if (in_domain && r.has("vessel"))
+        throw InputError(fmt::format("seeding.vessel = \"{}\": region = \"domain\" fills the "
+                                     "whole box (remove the key, or set region = \"vessel\")",
+                                     vessel));
 
-    // The vessel and its lumen.
+    // The vessel and its lumen; for the domain, a stand-in at the box's centre (its centre
+    // is where the templates are checked).
     const BodyConfig* tube = nullptr;
-    for (const BodyConfig& b : bodies)
-        if (b.name == vessel) tube = &b;
-    if (!tube || tube->shape != BodyShape::Tube)
+    BodyConfig domain_centre;
+    for (int d = 0; d < 3; ++d)
+        domain_centre.centre[d] = grid.origin[d] + 0.5 * grid.length[d];
+    if (in_domain)
+        tube = &domain_centre;
+    else
+        for (const BodyConfig& b : bodies)
+            if (b.name == vessel) tube = &b;
+    if (!tube || (!in_domain && tube->shape != BodyShape::Tube))
         throw InputError(
             fmt::format("seeding.vessel = \"{}\": {}", vessel,
                         tube ? "that body's shape is not \"tube\"" : "no [[body]] of that name"));
@@ -247,13 +267,18 @@ SeedingReport expand_seeding(toml::table& root, TableReader& top, const GlobalGr
         throw InputError("seeding.target_haematocrit > 0: no [[seeding.kind]] has fill = true");
 
     // The request: the lumen of the tube, centres drawn so no cell crosses the box ends
-    // along x (the seeding does not wrap its overlap test around the periodic direction).
+    // along x (the seeding does not wrap its overlap test around the periodic direction);
+    // or the whole box, every face kept the gap away (walls, and periodic ends likewise).
     const real radius = 0.5 * tube->lumen_diameter;
-    const auto lumen =
-        make_cylinder(tube->centre, radius, axis_angle_rotation({0, 1, 0}, std::numbers::pi / 2));
+    const Real3 half{0.5 * grid.length[0], 0.5 * grid.length[1], 0.5 * grid.length[2]};
+    const auto lumen = in_domain
+                           ? make_box(tube->centre, half, identity_rotation())
+                           : make_cylinder(tube->centre, radius,
+                                           axis_angle_rotation({0, 1, 0}, std::numbers::pi / 2));
     SeedingRequest q;
     q.region = lumen.get();
-    q.region_volume = std::numbers::pi * radius * radius * grid.length[0];
+    q.region_volume = in_domain ? grid.length[0] * grid.length[1] * grid.length[2]
+                                : std::numbers::pi * radius * radius * grid.length[0];
     real reach = 0;
     for (const Template& t : kinds) {
         SeedKind k;
@@ -269,10 +294,16 @@ SeedingReport expand_seeding(toml::table& root, TableReader& top, const GlobalGr
     q.box_lo = {grid.origin[0] + reach + gap, tube->centre[1] - radius, tube->centre[2] - radius};
     q.box_hi = {grid.origin[0] + grid.length[0] - reach - gap, tube->centre[1] + radius,
                 tube->centre[2] + radius};
-    if (!(q.box_hi[0] > q.box_lo[0]))
-        throw InputError(fmt::format("seeding: the box is {:.4g} m long in x, too short for a "
-                                     "cell of {:.4g} m across plus the gap at both ends",
-                                     grid.length[0], 2 * reach));
+    if (in_domain)
+        for (int d = 0; d < 3; ++d) {
+            q.box_lo[d] = grid.origin[d] + reach + gap;
+            q.box_hi[d] = grid.origin[d] + grid.length[d] - reach - gap;
+        }
+    for (int d = 0; d < (in_domain ? 3 : 1); ++d)
+        if (!(q.box_hi[d] > q.box_lo[d]))
+            throw InputError(fmt::format("seeding: the box is {:.4g} m long in {}, too short for "
+                                         "a cell of {:.4g} m across plus the gap at both ends",
+                                         grid.length[d], "xyz"[d], 2 * reach));
     q.fill_kind = std::max(fill, 0);
     q.target_fraction = target;
     q.gap = gap;
@@ -295,7 +326,7 @@ SeedingReport expand_seeding(toml::table& root, TableReader& top, const GlobalGr
 
     rep.used = true;
     rep.seed = q.seed;
-    rep.vessel = vessel;
+    rep.vessel = in_domain ? std::string("(the domain)") : vessel;
     rep.fill_kind = fill >= 0 ? kinds[fill].name : "";
     rep.target = target;
     rep.achieved = fill >= 0 ? res.achieved_fraction : 0;

@@ -148,6 +148,68 @@ pinned = true
     EXPECT_THAT(input_error_of([&] { case_from(two_tubes); }), HasSubstr("second_tube"));
 }
 
+// region = "domain": a channel between walls in y (periodic in x and z, no vessel body) is
+// filled to the target, every cell inside the box and clear of its faces by the gap.
+TEST(SeedingConfig, DomainRegionFillsAChannel) {
+    const std::string channel = R"(
+[grid]
+cells = [24, 12, 12]
+length = [24.0, 12.0, 12.0]
+[fluid]
+density = 1.0e-3
+viscosity = 1.2
+[boundary]
+y_low = "wall"
+y_high = "wall"
+[time]
+end_time = 1.0
+[seeding]
+region = "domain"
+target_haematocrit = 0.1
+seed = 5
+gap = 0.3
+[[seeding.kind]]
+name = "rbc"
+fill = true
+[seeding.kind.body]
+kind = "membrane"
+shape = "biconcave"
+radius = 3.91
+interface = "smoothed"
+law = "skalak"
+elastic_modulus = 9.0
+area_dilation = 10.0
+)";
+    const Config c = case_from(channel);
+    ASSERT_TRUE(c.seeding.used);
+    const real box = 24.0 * 12.0 * 12.0;
+    EXPECT_NEAR(c.seeding.lumen_volume, box, 1e-9 * box);
+    const real v_rbc = make_biconcave_disc({0, 0, 0}, identity_rotation(), {3.91})->exact_volume();
+    EXPECT_NEAR(c.seeding.achieved, 0.1, 0.5 * v_rbc / box + 1e-12);
+    ASSERT_FALSE(c.bodies.empty());
+    EXPECT_NEAR(c.bodies.size() * v_rbc / box, c.seeding.achieved, 1e-12);
+    // every cell inside the box, 0.3 from its faces: on a lattice of 0.1 over its rim's reach
+    const Real3 len{24.0, 12.0, 12.0};
+    for (const BodyConfig& b : c.bodies) {
+        const auto s = make_biconcave_disc(b.centre, axis_angle_rotation(b.axis, b.angle), {3.91});
+        for (real z = b.centre[2] - 4; z <= b.centre[2] + 4; z += 0.1)
+            for (real y = b.centre[1] - 4; y <= b.centre[1] + 4; y += 0.1)
+                for (real x = b.centre[0] - 4; x <= b.centre[0] + 4; x += 0.1) {
+                    const Real3 p{x, y, z};
+                    bool near_face = false;
+                    for (int d = 0; d < 3; ++d)
+                        near_face = near_face || p[d] < 0.25 || p[d] > len[d] - 0.25;
+                    if (near_face) ASSERT_FALSE(s->inside(p)) << b.name << " at a face";
+                }
+    }
+    // region = "domain" with a vessel named is refused, naming the key
+    const std::string both = channel + "";
+    std::string with_vessel = both;
+    with_vessel.replace(with_vessel.find("region = \"domain\""), 17,
+                        "region = \"domain\"\nvessel = \"wall\"");
+    EXPECT_THAT(input_error_of([&] { case_from(with_vessel); }), HasSubstr("seeding.vessel"));
+}
+
 TEST(SeedingConfig, TheSameSeedGivesTheSameSceneAndTheResolvedCaseIsThatScene) {
     const Config a = case_from(seeding("target_haematocrit = 0.04\nseed = 11\n"));
     const Config b = case_from(seeding("target_haematocrit = 0.04\nseed = 11\n"));
