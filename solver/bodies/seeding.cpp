@@ -32,26 +32,8 @@ real dist2(const Real3& a, const Real3& b) {
     return dx * dx + dy * dy + dz * dz;
 }
 
-/// Surface points of a kind in body coordinates: lattice points inside the shape with a
-/// lattice neighbour outside.
-std::vector<Real3> surface_lattice(const SeedKind& kind, real h) {
-    const auto shape = kind.make({0, 0, 0}, identity_rotation());
-    const int n = int(std::ceil(kind.bounding_radius / h)) + 1;
-    auto in = [&](int i, int j, int k) { return shape->inside({i * h, j * h, k * h}); };
-    std::vector<Real3> pts;
-    for (int k = -n; k <= n; ++k)
-        for (int j = -n; j <= n; ++j)
-            for (int i = -n; i <= n; ++i) {
-                if (!in(i, j, k)) continue;
-                const bool edge = !in(i - 1, j, k) || !in(i + 1, j, k) || !in(i, j - 1, k) ||
-                                  !in(i, j + 1, k) || !in(i, j, k - 1) || !in(i, j, k + 1);
-                if (edge) pts.push_back({i * h, j * h, k * h});
-            }
-    return pts;
-}
-
-/// Surface points of a shape in the lab frame, on the lattice of spacing h through its
-/// centre (as surface_lattice).
+/// Surface points of a shape in the lab frame: points of the lattice of spacing h through
+/// `c` inside the shape with a lattice neighbour outside (`radius` bounds the shape about c).
 std::vector<Real3> surface_lattice(const Shape& shape, const Real3& c, real radius, real h) {
     const int n = int(std::ceil(radius / h)) + 1;
     auto in = [&](int i, int j, int k) {
@@ -67,6 +49,12 @@ std::vector<Real3> surface_lattice(const Shape& shape, const Real3& c, real radi
                 if (edge) pts.push_back({c[0] + i * h, c[1] + j * h, c[2] + k * h});
             }
     return pts;
+}
+
+/// Surface points of a kind in body coordinates (its shape at the origin).
+std::vector<Real3> surface_lattice(const SeedKind& kind, real h) {
+    const auto shape = kind.make({0, 0, 0}, identity_rotation());
+    return surface_lattice(*shape, {0, 0, 0}, kind.bounding_radius, h);
 }
 
 /// Surface points of the placed bodies, binned on a regular grid of cells of side 2 r over
