@@ -39,16 +39,8 @@ lumen_diameter = 20.0
 pinned = true
 )";
 
-std::string seeding(const std::string& head, const std::string& rbc_extra = "") {
-    return vessel + "[seeding]\nvessel = \"wall\"\n" + head + R"(
-[[seeding.kind]]
-name = "platelet"
-count = 2
-[seeding.kind.body]
-kind = "solid"
-shape = "ellipsoid"
-semi_axes = [1.0, 1.0, 0.6]
-shear_modulus = 100.0
+// The red cells that fill the region (the fill kind of every scene here).
+const std::string rbc_kind = R"(
 [[seeding.kind]]
 name = "rbc"
 fill = true
@@ -60,7 +52,19 @@ interface = "smoothed"
 law = "skalak"
 elastic_modulus = 9.0
 area_dilation = 10.0
-)" + rbc_extra;
+)";
+
+std::string seeding(const std::string& head, const std::string& rbc_extra = "") {
+    return vessel + "[seeding]\nvessel = \"wall\"\n" + head + R"(
+[[seeding.kind]]
+name = "platelet"
+count = 2
+[seeding.kind.body]
+kind = "solid"
+shape = "ellipsoid"
+semi_axes = [1.0, 1.0, 0.6]
+shear_modulus = 100.0)" +
+           rbc_kind + rbc_extra;
 }
 
 } // namespace
@@ -167,19 +171,7 @@ end_time = 1.0
 region = "domain"
 target_haematocrit = 0.1
 seed = 5
-gap = 0.3
-[[seeding.kind]]
-name = "rbc"
-fill = true
-[seeding.kind.body]
-kind = "membrane"
-shape = "biconcave"
-radius = 3.91
-interface = "smoothed"
-law = "skalak"
-elastic_modulus = 9.0
-area_dilation = 10.0
-)";
+gap = 0.3)" + rbc_kind;
     const Config c = case_from(channel);
     ASSERT_TRUE(c.seeding.used);
     const real box = 24.0 * 12.0 * 12.0;
