@@ -3,7 +3,7 @@
 
     /usr/bin/python3 verification/record.py build/verification/capsule_shear/runs/3d_n32_ca0.0125_t2 [...]
 
-Copies the run's small files (bodies.csv, diagnostics.csv, summary.json, case.toml; no
+Copies the run's small files (bodies.csv, diagnostics.csv, adhesion.csv, summary.json, case.toml; no
 fields, no checkpoint) and writes record.json: the commit the solver was built from (from
 the run's summary.json), its rank count and machine load, the repository's HEAD when the
 record was made, the efsi version and the date. A study run with

@@ -2,6 +2,7 @@
 
 #include "config/reader.hpp"
 #include "core/error.hpp"
+#include "interface/shapes.hpp"
 #include "interface/thinc.hpp"
 
 #include <fmt/core.h>
@@ -44,6 +45,22 @@ Real3 body_half_extent(const BodyConfig& b, int dim) {
         return {m, m, m};
     }
     return {inf, inf, inf}; // slab, mask, tube: checked otherwise
+}
+
+Real3 body_axis_extent(const BodyConfig& b, int dim) {
+    if (b.shape != BodyShape::Ellipsoid && b.shape != BodyShape::Box)
+        return body_half_extent(b, dim);
+    // x = R y + c: the support function sqrt(sum_j (R_ij a_j)^2) of an ellipsoid,
+    // sum_j |R_ij| h_j of a box.
+    const Matrix3 rot = b.angle != 0 ? axis_angle_rotation(b.axis, b.angle) : identity_rotation();
+    Real3 e{};
+    for (int i = 0; i < 3; ++i)
+        e[i] = b.shape == BodyShape::Ellipsoid
+                   ? std::hypot(rot[i][0] * b.semi_axes[0], rot[i][1] * b.semi_axes[1],
+                                rot[i][2] * b.semi_axes[2])
+                   : std::abs(rot[i][0]) * b.half_sizes[0] + std::abs(rot[i][1]) * b.half_sizes[1] +
+                         std::abs(rot[i][2]) * b.half_sizes[2];
+    return e;
 }
 
 MembraneLawKind parse_membrane_law(const std::string& name, const std::string& key) {
@@ -281,7 +298,7 @@ std::vector<BodyConfig> read_bodies(TableReader& top, const GlobalGrid& grid,
                                              at));
         }
         // A body must lie inside the box along walled directions, and meet the box at all.
-        const Real3 h = body_half_extent(b, grid.dim);
+        const Real3 h = body_axis_extent(b, grid.dim);
         for (int d = 0; d < grid.dim; ++d) {
             if (h[d] < 0) continue;
             const real lo = grid.origin[d], hi = grid.origin[d] + grid.length[d];

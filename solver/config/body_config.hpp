@@ -165,6 +165,11 @@ struct VofConfig {
 /// the cylinder's axis).
 Real3 body_half_extent(const BodyConfig& b, int dim);
 
+/// The exact half-extent of the body's initial shape along each axis (rotation included)
+/// for an ellipsoid or a box; body_half_extent otherwise. The check that a body lies inside
+/// the domain uses it, so that an ellipsoid lying flat by a wall is not refused.
+Real3 body_axis_extent(const BodyConfig& b, int dim);
+
 /// Read and check the [[body]] sections against the grid (a body outside the domain is an
 /// error naming it). Called by the case reader, which then checks the mask files and keys
 /// that belong to another shape (check_shape_keys).

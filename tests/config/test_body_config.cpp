@@ -5,6 +5,9 @@
 #include "membrane/membrane_law.hpp"
 #include "test_support.hpp"
 
+#include <cmath>
+#include <numbers>
+
 using namespace efsi;
 using efsi::test::case_from;
 using efsi::test::input_error_of;
@@ -168,4 +171,61 @@ TEST(BodyConfig, MapInterpolationAndSmoothingWidthAreChecked) {
     // The VOF's MTHINC beta of a smoothed body is 1 / smoothing_width, at most 50.
     EXPECT_THAT(input_error_of([&] { case_from(membrane("smoothing_width = 0.01\n")); }),
                 HasSubstr("body[0].smoothing_width"));
+}
+
+TEST(BodyConfig, HalfExtentIsTheRotatedShapes) {
+    // An ellipsoid lying flat by a wall is accepted: its extent normal to the wall is its
+    // short semi-axis, not the longest one.
+    const std::string box3 = R"(
+[grid]
+cells = [16, 16, 16]
+length = [4.0, 4.0, 4.0]
+
+[fluid]
+density = 1.0
+viscosity = 0.1
+
+[boundary]
+y_low = "wall"
+y_high = "wall"
+
+[time]
+end_time = 1.0
+)";
+    const Config c = case_from(box3 + R"(
+[[body]]
+name = "flat"
+kind = "solid"
+shear_modulus = 1.0
+shape = "ellipsoid"
+centre = [2.0, 0.7, 2.0]
+semi_axes = [1.0, 0.6, 1.0]
+)");
+    const Real3 e = body_axis_extent(c.bodies[0], 3);
+    EXPECT_NEAR(e[0], 1.0, 1e-14);
+    EXPECT_NEAR(e[1], 0.6, 1e-14);
+    EXPECT_NEAR(e[2], 1.0, 1e-14);
+    // Turned by 90 degrees about z, its long axis stands normal to the wall: refused.
+    const std::string turned = box3 + R"(
+[[body]]
+name = "flat"
+kind = "solid"
+shear_modulus = 1.0
+shape = "ellipsoid"
+centre = [2.0, 0.7, 2.0]
+semi_axes = [1.0, 0.6, 1.0]
+axis = [0.0, 0.0, 1.0]
+angle = 1.5707963267948966
+)";
+    EXPECT_THAT(input_error_of([&] { case_from(turned); }), HasSubstr("reaches through a wall"));
+    // A box turned by 45 degrees about z reaches (hx + hy) / sqrt(2) in x and y.
+    BodyConfig b;
+    b.shape = BodyShape::Box;
+    b.half_sizes = {1.0, 0.5, 0.25};
+    b.axis = {0.0, 0.0, 1.0};
+    b.angle = std::numbers::pi / 4;
+    const Real3 f = body_axis_extent(b, 3);
+    EXPECT_NEAR(f[0], 1.5 / std::sqrt(2.0), 1e-14);
+    EXPECT_NEAR(f[1], 1.5 / std::sqrt(2.0), 1e-14);
+    EXPECT_NEAR(f[2], 0.25, 1e-14);
 }

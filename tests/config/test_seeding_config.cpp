@@ -131,8 +131,9 @@ shear_modulus = 100.0
         for (real z = cp[2] - 1.0; z <= cp[2] + 1.0; z += 0.05)
             for (real y = cp[1] - 1.0; y <= cp[1] + 1.0; y += 0.05)
                 for (real x = cp[0] - 1.0; x <= cp[0] + 1.0; x += 0.05)
-                    if (by_hand->inside({x, y, z}))
+                    if (by_hand->inside({x, y, z})) {
                         ASSERT_FALSE(s->inside({x, y, z})) << b.name << " overlaps the hand body";
+                    }
     }
     EXPECT_EQ(c.bodies.size(), 2u + cells);
     EXPECT_GT(c.seeding.achieved, 0.045);
@@ -191,7 +192,9 @@ gap = 0.3)" + rbc_kind;
                     bool near_face = false;
                     for (int d = 0; d < 3; ++d)
                         near_face = near_face || p[d] < 0.25 || p[d] > len[d] - 0.25;
-                    if (near_face) ASSERT_FALSE(s->inside(p)) << b.name << " at a face";
+                    if (near_face) {
+                        ASSERT_FALSE(s->inside(p)) << b.name << " at a face";
+                    }
                 }
     }
     // region = "domain" with a vessel named is refused, naming the key

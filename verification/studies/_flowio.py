@@ -84,7 +84,8 @@ def capsule_box_sets(dim: int, cells_per_diameter: int) -> dict:
 # from its record (listed in the study's notes) instead of being recomputed. Written by
 # `verification/record.py`.
 RECORDS = Path(__file__).resolve().parents[1] / "records"
-RECORD_FILES = ("bodies.csv", "diagnostics.csv", "summary.json", "case.toml", "record.json")
+RECORD_FILES = ("bodies.csv", "diagnostics.csv", "adhesion.csv", "summary.json", "case.toml",
+                "record.json")
 USED_RECORDS: list[str] = []
 
 
