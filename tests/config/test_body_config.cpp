@@ -192,7 +192,7 @@ y_high = "wall"
 [time]
 end_time = 1.0
 )";
-    const Config c = case_from(box3 + R"(
+    const std::string flat = box3 + R"(
 [[body]]
 name = "flat"
 kind = "solid"
@@ -200,23 +200,13 @@ shear_modulus = 1.0
 shape = "ellipsoid"
 centre = [2.0, 0.7, 2.0]
 semi_axes = [1.0, 0.6, 1.0]
-)");
-    const Real3 e = body_axis_extent(c.bodies[0], 3);
+)";
+    const Real3 e = body_axis_extent(case_from(flat).bodies[0], 3);
     EXPECT_NEAR(e[0], 1.0, 1e-14);
     EXPECT_NEAR(e[1], 0.6, 1e-14);
     EXPECT_NEAR(e[2], 1.0, 1e-14);
     // Turned by 90 degrees about z, its long axis stands normal to the wall: refused.
-    const std::string turned = box3 + R"(
-[[body]]
-name = "flat"
-kind = "solid"
-shear_modulus = 1.0
-shape = "ellipsoid"
-centre = [2.0, 0.7, 2.0]
-semi_axes = [1.0, 0.6, 1.0]
-axis = [0.0, 0.0, 1.0]
-angle = 1.5707963267948966
-)";
+    const std::string turned = flat + "axis = [0.0, 0.0, 1.0]\nangle = 1.5707963267948966\n";
     EXPECT_THAT(input_error_of([&] { case_from(turned); }), HasSubstr("reaches through a wall"));
     // A box turned by 45 degrees about z reaches (hx + hy) / sqrt(2) in x and y.
     BodyConfig b;

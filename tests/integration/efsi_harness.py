@@ -73,6 +73,20 @@ def tg_grid(n):
             f"grid.length=[{TWO_PI!r}, {TWO_PI!r}, {TWO_PI / n!r}]"]
 
 
+
+def csv_rows(out, name):
+    """The rows of the run's CSV file `name` (adhesion.csv, bodies.csv, ...) as dicts."""
+    import csv
+    with open(os.path.join(out, name)) as f:
+        return list(csv.DictReader(f))
+
+
+def run_summary(out):
+    """The run's summary.json."""
+    import json
+    with open(os.path.join(out, "summary.json")) as f:
+        return json.load(f)
+
 def fail(msg):
     print("FAIL:", msg)
     sys.exit(1)

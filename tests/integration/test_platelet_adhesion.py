@@ -19,27 +19,16 @@ shear flow 30 nm above a vWF patch, its GPIb-alpha receptors binding by kinetic 
     holding it for a case without [adhesion] are refused (exit 2, naming the key or the
     state) before anything is written;
 (5) the run without [adhesion] writes no adhesion.csv and no adhesion entry."""
-import csv
-import json
 import os
 import shutil
 
-from efsi_harness import check, parse_args, run
+from efsi_harness import check, csv_rows, parse_args, run, run_summary
 
 args = parse_args()
 case = os.path.join(args.cases, "platelet_adhesion")
 
 
-def rows(out, name):
-    with open(os.path.join(out, name)) as f:
-        return list(csv.DictReader(f))
-
-
-def summary(out):
-    with open(os.path.join(out, "summary.json")) as f:
-        return json.load(f)
-
-
+rows, summary = csv_rows, run_summary
 def late_velocity(out):
     """Mean x velocity of the platelet's centroid over the last quarter of the run [m/s]."""
     b = rows(out, "bodies.csv")

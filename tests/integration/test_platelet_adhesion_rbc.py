@@ -7,30 +7,19 @@ patch in channel flow, with red cells seeded to Ht 20 % and without. A short run
     platelet stays 100 nm from the wall (30 nm beyond the reactive distance);
 (3) without red cells (target 0): no red cell, no membrane field in the snapshot, and the
     platelet's rows match the run with red cells' at step 0."""
-import csv
 import glob
-import json
 import os
 
 import h5py
 
-from efsi_harness import check, parse_args, run
+from efsi_harness import check, csv_rows, parse_args, run, run_summary
 
 args = parse_args()
 case = os.path.join(args.cases, "platelet_adhesion_rbc")
 SHORT = ["time.end_time=3.0e-5"]
 
 
-def rows(out, name):
-    with open(os.path.join(out, name)) as f:
-        return list(csv.DictReader(f))
-
-
-def summary(out):
-    with open(os.path.join(out, "summary.json")) as f:
-        return json.load(f)
-
-
+rows, summary = csv_rows, run_summary
 out = {}
 for ranks in (1, 2):
     out[ranks] = os.path.join(args.output, f"rbc_np{ranks}")
