@@ -281,12 +281,52 @@ def fig5_run(ctx, kind, seed, end_time):
     tb, ib = np.unique(tb[o], return_index=True)
     y = np.array([float(b[i]["centroid_y"]) for i in o[ib]])
     x = np.array([float(b[i]["centroid_x"]) for i in o[ib]])
+    drift = receptor_drift(out)
     # time with at least one bond: the rows are diagnostics_every steps apart (10 us)
     dt_rows = np.diff(t, append=t[-1])
     return dict(key=key, out=out, summary=summ, t=t, bonds=bonds, near=near, tb=tb, y=y, x=x,
                 adhered=bool(bonds[-1] > 0), time_bound=float(np.sum(dt_rows[bonds > 0])),
                 mean_bonds=float(np.sum(dt_rows * bonds) / (t[-1] - t[0])),
-                seeding=summ.get("seeding", {}))
+                seeding=summ.get("seeding", {}), drift=drift)
+
+
+def receptor_drift(out):
+    """Where the receptors are at the end against the platelet they should sit on: the
+    lowest receptor's height above y = 0 and the fraction of receptors outside the body
+    (phi < 0.05, trilinear between cell centres, periodic in x and z), from the final
+    checkpoint's adhesion/receptor_x and the last snapshot's phi_platelet at the same time.
+    None when the run has no checkpoint or snapshot (a committed record)."""
+    import glob
+    ckpt, snaps = out / "checkpoint.h5", sorted(glob.glob(str(out / "fields" / "fields_*.h5")))
+    if not ckpt.exists() or not snaps:
+        return None
+    import h5py
+    from scipy.interpolate import RegularGridInterpolator
+    cells = [int(v) for v in re.findall(r"\d+", re.search(
+        r"cells = \[[^\]]*\]", (out / "case.toml").read_text()).group(0))]
+    length = [float(v) for v in re.search(r"length = \[([^\]]*)\]",
+                                          (out / "case.toml").read_text()).group(1).split(",")]
+    nx, ny, nz = cells
+    h = [length[d] / cells[d] for d in range(3)]
+    with h5py.File(ckpt, "r") as f:
+        x = f["adhesion/receptor_x"][...].reshape(-1, 3)
+        t_ckpt = float(f.attrs["time"])
+    with h5py.File(snaps[-1], "r") as f:
+        if abs(float(f.attrs["time"]) - t_ckpt) > 1e-12 or "phi_platelet" not in f:
+            return None
+        phi = np.transpose(f["phi_platelet"][...].reshape(nz, ny, nx), (2, 1, 0))
+    c = [(np.arange(cells[d]) + 0.5) * h[d] for d in range(3)]
+    pad = np.pad(phi, ((1, 1), (0, 0), (1, 1)), mode="wrap")
+    ax = [np.concatenate([[c[d][0] - h[d]], c[d], [c[d][-1] + h[d]]]) for d in (0, 2)]
+    interp = RegularGridInterpolator((ax[0], c[1], ax[1]), pad)
+    q = x.copy()
+    q[:, 0] %= length[0]
+    q[:, 2] %= length[2]
+    q[:, 1] = np.clip(q[:, 1], c[1][0], c[1][-1])
+    v = interp(q)
+    return {"lowest_receptor_nm": float(x[:, 1].min() * 1e9),
+            "outside_fraction": float(np.mean(v < 0.05)),
+            "x_spread_um": float(np.ptp(x[:, 0]) * 1e6)}
 
 
 def fig5_scene(ctx, metrics, tables, notes):
@@ -323,7 +363,13 @@ def fig5_scene(ctx, metrics, tables, notes):
                          "centroid_y_start_um": r["y"][0] * 1e6,
                          "centroid_y_end_um": r["y"][-1] * 1e6,
                          "min_centroid_y_um": float(r["y"].min() * 1e6),
-                         "receptors_within_reach_plus_margin_end": int(r["near"][-1])})
+                         "receptors_within_reach_plus_margin_end": int(r["near"][-1]),
+                         "lowest_receptor_nm_end": r["drift"] and r["drift"]["lowest_receptor_nm"],
+                         "receptors_outside_platelet_end": r["drift"] and r["drift"]["outside_fraction"],
+                         "receptor_x_spread_um_end": r["drift"] and r["drift"]["x_spread_um"]})
+        drifts = [r["drift"]["outside_fraction"] for r in rs if r["drift"]]
+        if drifts:
+            metrics[f"fig5_receptors_outside_platelet_max_{tag}"] = float(max(drifts))
     metrics["fig5_haematocrit_min_with_rbc"] = float(min(
         r["seeding"].get("achieved_haematocrit", 0.0) for r in runs["rbc"]))
     tables["fig5_scene"] = rows
