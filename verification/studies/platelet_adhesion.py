@@ -88,14 +88,12 @@ BOUNDS = [
           "the walls take exactly the reaction of the bonds' pull on the platelet "
           "(|impulse_walls + impulse_bodies| / |impulse_bodies|)"),
     # The Fig. 5 scene: the runs are what they claim to be; the outcome itself (adhered or
-    # not) is reported, not bounded. Quick tier only until the stored full-tier result
-    # (verification/results/platelet_adhesion, made before the scene existed) is remade
-    # with its five seeds per scene (test_bounds checks stored results against these).
+    # not) is reported, not bounded.
     Bound(r"fig5_t_end_reached_fraction_.*", "==", 1.0,
-          "every run of the scene reaches its end time (no UNSTABLE stop)", tiers=("quick",)),
+          "every run of the scene reaches its end time (no UNSTABLE stop)", tiers=("quick", "full")),
     Bound(r"fig5_haematocrit_min_with_rbc", ">=", 0.18,
           "the seeding packs the red cells to within one cell of the 20 % target "
-          "(4 cells: 18.8 % of the 2000 um^3 box)", tiers=("quick",)),
+          "(4 cells: 18.8 % of the 2000 um^3 box)", tiers=("quick", "full")),
 ]
 
 PN = 1e-12
