@@ -6,6 +6,7 @@
 
 #include <cmath>
 #include <numbers>
+#include <stdexcept>
 
 namespace efsi::adhesion {
 
@@ -34,6 +35,7 @@ Coupling::Coupling(const AdhesionConfig& config, const std::vector<BodyConfig>& 
     dec_ = &dec;
     p_ = config.parameters;
     max_step_displacement_ = config.max_step_displacement;
+    motion_ = config.receptor_motion;
     kin_.emplace(p_, config.seed);
     const GlobalGrid& g = dec.grid();
     if (g.dim != 3) throw InputError("adhesion: needs a 3D grid");
@@ -85,6 +87,9 @@ void Coupling::anchor(const std::array<std::array<bool, 2>, 3>& no_slip,
     if (!active_) return;
     const GlobalGrid& g = dec_->grid();
     pinning_ = pinning;
+    for (int a = 0; a < 3; ++a)
+        for (int side = 0; side < 2; ++side)
+            no_slip_[a][side] = no_slip[a][side] && !dec_->periodic()[a];
     anchor_.assign(ligands_.size(), LigandAnchor::none);
     std::vector<std::uint64_t> off_wall;
     for (std::uint64_t id = 0; id < ligands_.size(); ++id) {
@@ -231,6 +236,7 @@ void Coupling::add_bond_forces(VelocityField& force, real dt) {
     stats_.bonds_spread = stats_.face_writes = 0;
     stats_.max_tension = 0;
     stats_.force_on_bodies = stats_.reaction_on_walls = stats_.reaction_on_held = {0, 0, 0};
+    stats_.wall_support = {0, 0, 0};
     held_x_.clear();
     held_f_.clear();
     if (!active_) return;
@@ -242,7 +248,11 @@ void Coupling::add_bond_forces(VelocityField& force, real dt) {
     // moves at most max_step_displacement cells.
     AdhesionParameters p = p_;
     p.max_bond_force = max_step_displacement_ * limits_.h / (mk * dt);
-    for (const BodyReceptors& b : bodies_) {
+    const bool rigid = motion_ == ReceptorMotion::rigid;
+    if (rigid) rigid_loads_.assign(bodies_.size(), RigidLoad{});
+    const GlobalGrid& g = dec_->grid();
+    for (std::size_t i = 0; i < bodies_.size(); ++i) {
+        const BodyReceptors& b = bodies_[i];
         if (b.bonds == 0) continue;
         const real body_number =
             static_cast<real>(b.bonds) * sigma * dt * SpringLimits::mobility(dt, b.mass, b.drag);
@@ -272,8 +282,28 @@ void Coupling::add_bond_forces(VelocityField& force, real dt) {
                 "one step)",
                 e.what(), b.name, max_step_displacement_, limits_.h, dt));
         }
+        RigidLoad& load = rigid ? rigid_loads_[i] : scratch_load_;
+        for (int a = 0; a < 3; ++a)
+            load.point[a] = 0.5 * (b.lo[a] + b.hi[a]);
         for (const BondLoad& l : loads_) {
-            stats_.face_writes += spread_force(force, *dec_, l.receptor_x, l.force.on_receptor);
+            if (rigid) {
+                // Summed into the body's force and torque (spread by the caller over the
+                // body, bodies/rigid_fit.hpp); the lever arm by the minimum image.
+                Real3 arm;
+                for (int a = 0; a < 3; ++a) {
+                    arm[a] = l.receptor_x[a] - load.point[a];
+                    if (dec_->periodic()[a])
+                        arm[a] -= g.length[a] * std::round(arm[a] / g.length[a]);
+                }
+                const Real3& F = l.force.on_receptor;
+                for (int a = 0; a < 3; ++a) {
+                    load.force[a] += F[a];
+                    load.torque[a] +=
+                        arm[(a + 1) % 3] * F[(a + 2) % 3] - arm[(a + 2) % 3] * F[(a + 1) % 3];
+                }
+            } else {
+                stats_.face_writes += spread_force(force, *dec_, l.receptor_x, l.force.on_receptor);
+            }
             for (int a = 0; a < 3; ++a)
                 stats_.force_on_bodies[a] += l.force.on_receptor[a];
             // The reaction: taken by the wall the ligand is anchored to.
@@ -298,11 +328,43 @@ void Coupling::add_bond_forces(VelocityField& force, real dt) {
             stats_.max_tension = std::max(stats_.max_tension, std::abs(l.force.tension));
             ++stats_.bonds_spread;
         }
+        if (rigid) support_on_walls(b, load);
     }
     // Every rank holds the same bonds, so every rank makes this collective call or none.
     if (!held_x_.empty())
         stats_.face_writes +=
             held_spreader_.spread(force, *pinning_, *dec_, held_x_, held_f_, min_held_share);
+}
+
+void Coupling::support_on_walls(const BodyReceptors& b, RigidLoad& load) {
+    const GlobalGrid& g = dec_->grid();
+    for (int a = 0; a < 3; ++a)
+        for (int side = 0; side < 2; ++side) {
+            if (!no_slip_[a][side]) continue;
+            const real wall = g.origin[a] + side * g.length[a];
+            const real inward = side == 0 ? 1.0 : -1.0;
+            if (load.force[a] * inward >= 0) continue; // not pulled towards this wall
+            // In contact: carry_rigidly put a receptor exactly on the wall.
+            std::size_t on = b.end;
+            for (std::size_t k = b.begin; k < b.end && on == b.end; ++k)
+                if (receptors_[k].x[a] == wall) on = k;
+            if (on == b.end) continue;
+            // The wall pushes back at the contact point with the normal pull.
+            Real3 support{0, 0, 0}, arm;
+            support[a] = -load.force[a];
+            for (int c = 0; c < 3; ++c) {
+                arm[c] = receptors_[on].x[c] - load.point[c];
+                if (dec_->periodic()[c]) arm[c] -= g.length[c] * std::round(arm[c] / g.length[c]);
+            }
+            load.force[a] = 0;
+            for (int c = 0; c < 3; ++c) {
+                load.torque[c] += arm[(c + 1) % 3] * support[(c + 2) % 3] -
+                                  arm[(c + 2) % 3] * support[(c + 1) % 3];
+                stats_.wall_support[c] += support[c];
+                stats_.force_on_bodies[c] += support[c];
+                stats_.reaction_on_walls[c] -= support[c];
+            }
+        }
 }
 
 void Coupling::kinetics(real dt, std::uint64_t step) {
@@ -351,30 +413,34 @@ void Coupling::kinetics(real dt, std::uint64_t step) {
     }
 }
 
+std::string Coupling::body_name_of(std::size_t k) const {
+    for (const BodyReceptors& b : bodies_)
+        if (k >= b.begin && k < b.end) return b.name;
+    return "?";
+}
+
+void Coupling::check_inside(std::span<const Real3> at) const {
+    const GlobalGrid& g = dec_->grid();
+    for (std::size_t k = 0; k < at.size(); ++k)
+        for (int a = 0; a < 3; ++a)
+            if (!dec_->periodic()[a] &&
+                !(at[k][a] >= g.origin[a] && at[k][a] <= g.origin[a] + g.length[a]))
+                throw RunError(fmt::format("adhesion: receptor {} (body '{}') is at {}, outside "
+                                           "the domain through the wall in {} (the step moved it "
+                                           "too far: dt too large for the flow near the wall?)",
+                                           receptors_[k].id, body_name_of(k), point_text(at[k]),
+                                           "xyz"[a]));
+}
+
 void Coupling::carry(const VelocityField& u, real dt) {
     if (!active_ || receptors_.empty()) return;
-    const GlobalGrid& g = dec_->grid();
     x_.resize(receptors_.size());
     v_.resize(receptors_.size());
     auto interpolate = [&](std::span<const Real3> at) {
         try {
             interpolator_.interpolate(u, *dec_, at, v_);
         } catch (const RunError&) {
-            for (std::size_t k = 0; k < at.size(); ++k)
-                for (int a = 0; a < 3; ++a)
-                    if (!dec_->periodic()[a] &&
-                        !(at[k][a] >= g.origin[a] && at[k][a] <= g.origin[a] + g.length[a]))
-                        throw RunError(fmt::format(
-                            "adhesion: receptor {} (body '{}') is at {}, outside the domain "
-                            "through the wall in {} (the step moved it too far: dt too large "
-                            "for the flow near the wall?)",
-                            receptors_[k].id,
-                            [&] {
-                                for (const BodyReceptors& b : bodies_)
-                                    if (k >= b.begin && k < b.end) return b.name;
-                                return std::string("?");
-                            }(),
-                            point_text(at[k]), "xyz"[a]));
+            check_inside(at); // names the receptor when it left through a wall
             throw;
         }
     };
@@ -389,14 +455,61 @@ void Coupling::carry(const VelocityField& u, real dt) {
     for (std::size_t k = 0; k < receptors_.size(); ++k)
         for (int a = 0; a < 3; ++a)
             x_[k][a] = receptors_[k].x[a] + dt * v_[k][a];
-    // The end positions must be inside the walls too (checked by the next interpolation,
-    // but named here, where it happened).
-    for (std::size_t k = 0; k < receptors_.size(); ++k)
+    place_moved();
+}
+
+void Coupling::carry_rigidly(std::span<const RigidMotion> motions, real dt) {
+    if (!active_ || receptors_.empty()) return;
+    if (motions.size() != bodies_.size())
+        throw std::logic_error("Coupling::carry_rigidly: one motion per body with receptors");
+    x_.resize(receptors_.size());
+    const GlobalGrid& g = dec_->grid();
+    for (std::size_t i = 0; i < bodies_.size(); ++i) {
+        const BodyReceptors& b = bodies_[i];
+        // The fitted centre, taken in the periodic image of the receptors' cloud.
+        RigidMotion m = motions[i];
         for (int a = 0; a < 3; ++a)
-            if (!dec_->periodic()[a] &&
-                !(x_[k][a] >= g.origin[a] && x_[k][a] <= g.origin[a] + g.length[a])) {
-                interpolate(x_); // throws, naming the receptor
+            if (dec_->periodic()[a])
+                m.centre[a] -= g.length[a] *
+                               std::round((m.centre[a] - 0.5 * (b.lo[a] + b.hi[a])) / g.length[a]);
+        for (std::size_t k = b.begin; k < b.end; ++k)
+            x_[k] = m.move(receptors_[k].x, dt);
+        // Non-penetration: a rigid body does not pass a no-slip wall. The fitted motion can
+        // take its surface there (the flow in the gap, thinner than a cell, is not resolved):
+        // the cloud is then lifted back along the wall's normal onto the wall.
+        for (int a = 0; a < 3; ++a) {
+            if (!no_slip_[a][0] && !no_slip_[a][1]) continue;
+            std::size_t lo = b.begin, hi = b.begin;
+            for (std::size_t k = b.begin; k < b.end; ++k) {
+                if (x_[k][a] < x_[lo][a]) lo = k;
+                if (x_[k][a] > x_[hi][a]) hi = k;
             }
+            const real wall_lo = g.origin[a], wall_hi = g.origin[a] + g.length[a];
+            std::size_t touching = b.end;
+            real lift = 0, wall = 0;
+            if (no_slip_[a][0] && x_[lo][a] < wall_lo) {
+                lift = wall_lo - x_[lo][a];
+                touching = lo;
+                wall = wall_lo;
+            } else if (no_slip_[a][1] && x_[hi][a] > wall_hi) {
+                lift = wall_hi - x_[hi][a];
+                touching = hi;
+                wall = wall_hi;
+            }
+            if (touching == b.end) continue;
+            for (std::size_t k = b.begin; k < b.end; ++k)
+                x_[k][a] += lift;
+            // Exactly on the wall: the contact the bond forces see (support_on_walls).
+            x_[touching][a] = wall;
+            stats_.wall_lift += std::abs(lift);
+        }
+    }
+    place_moved();
+}
+
+void Coupling::place_moved() {
+    const GlobalGrid& g = dec_->grid();
+    check_inside(x_);
     for (std::size_t k = 0; k < receptors_.size(); ++k)
         receptors_[k].x = x_[k];
     // Periodic wrap, a body's cloud as a whole, and only while it holds no bond (a bond's
@@ -473,14 +586,19 @@ void Coupling::restore(const StateRecord& r) {
     }
 }
 
-void Coupling::advance(const VelocityField& u, real dt, std::uint64_t step) {
+void Coupling::advance(const VelocityField& u, real dt, std::uint64_t step,
+                       std::span<const RigidMotion> motions) {
     stats_.bodies_near = stats_.bodies_skipped = 0;
     stats_.kinetics = {};
+    stats_.wall_lift = 0;
     if (!active_) return;
     if (!(dt > 0) || !std::isfinite(dt))
         throw RunError(fmt::format("adhesion: time step dt = {:g} s must be positive", dt));
     kinetics(dt, step);
-    carry(u, dt);
+    if (motion_ == ReceptorMotion::rigid)
+        carry_rigidly(motions, dt);
+    else
+        carry(u, dt);
 }
 
 } // namespace efsi::adhesion

@@ -1,6 +1,7 @@
 // Platelet adhesion coupled to the flow (docs/method.md, "Platelet adhesion", "Coupling to
 // the flow"): GPIb-alpha receptors on the surfaces of the bodies named in
-// [[adhesion.receptors]], carried with the flow; vWF ligands on the wall boxes of
+// [[adhesion.receptors]], moved with their body's fitted rigid motion (or with the flow); vWF
+// ligands on the wall boxes of
 // [[adhesion.ligand_regions]]; the kinetic Monte Carlo of kinetics.hpp between them; each
 // bond's spring force spread onto the face force field at the receptor; its reaction, -F,
 // taken by the wall the ligand is anchored to (docs/method.md, "The wall takes the
@@ -14,8 +15,9 @@
 //   2. add_bond_forces(force, dt)    after the force field is zeroed and the elastic and
 //                                    membrane forces are added, before the flow step
 //   3. the flow step (SMAC) with that force
-//   4. advance(u_mid, dt, step)      after the bodies are moved with u_mid = (v^n + v^n+1)/2,
-//                                    its halos filled; `step` = the step's index at its start
+//   4. advance(u_mid, dt, step, m)   with u_mid = (v^n + v^n+1)/2 (halos filled) and m the
+//                                    rigid motions fitted to u_mid over the bodies at the
+//                                    start of the step; `step` = the step's index at its start
 // Everything in a step uses the receptors' positions and bonds at the start of the step:
 // the forces of (2) are those of the bonds the kinetics of (4) then breaks or keeps.
 //
@@ -27,9 +29,16 @@
 // (N ~ 100-1000 per platelet: ~0.2 MB for 1000 receptors, well under a flow step). The
 // physics makes no MPI call: the reductions go through the Decomposition.
 //
+// receptor_motion = rigid (docs/method.md, "Receptors that move with their platelet"):
+// advance moves each body's receptors with the rigid motion the caller fitted to the flow
+// over the body (bodies/rigid_fit.hpp), lifting a cloud the motion takes through a no-slip
+// wall back onto it; add_bond_forces spreads nothing at the receptors but sums each body's
+// bond force and torque into rigid_loads() (with the wall's support of a body in contact),
+// for the caller to spread over the body (the fit's adjoint).
+//
 // Skip what is not needed: a body with no bond whose receptors' bounding box is farther than
 // reactive_distance + margin from every ligand box gets no kinetics, no ligand lookup, no
-// draw and no force work (its receptors are still carried with the flow: they must be where
+// draw and no force work (its receptors still move with the body: they must be where
 // the body is when it comes near). Without [adhesion] the object holds nothing and every
 // call returns at once.
 //
@@ -52,6 +61,7 @@
 #include "adhesion/kinetics.hpp"
 #include "config/adhesion_config.hpp"
 #include "config/body_config.hpp"
+#include "core/rigid_motion.hpp"
 #include "core/state_record.hpp"
 
 #include <algorithm>
@@ -86,10 +96,17 @@ struct CouplingStats {
     Real3 force_on_bodies{};      ///< sum of the bonds' forces on the receptors [N]
     Real3 reaction_on_walls{};    ///< sum of -F taken by no-slip walls of the domain [N]
     Real3 reaction_on_held{};     ///< sum of -F spread onto pinned (held) solids [N]
+    /// receptor_motion = rigid: the no-slip walls' push on bodies in contact with them (the
+    /// normal part of the bonds' pull towards the wall they touch; support_on_walls) [N]. It
+    /// is in force_on_bodies too, and minus it in reaction_on_walls.
+    Real3 wall_support{};
     // advance
     std::size_t bodies_near = 0;    ///< bodies that got kinetics
     std::size_t bodies_skipped = 0; ///< bodies the skip test left alone
     StepStats kinetics;             ///< over the bodies that got kinetics
+    /// Sum over the bodies of how far their receptors were lifted back onto a wall the
+    /// rigid motion would have taken them through (carry_rigidly) [m].
+    real wall_lift = 0;
 };
 
 /// The explicit-spring numbers of the coupling (docs/method.md, "Time-step limits").
@@ -137,20 +154,32 @@ class Coupling {
     real stable_time_step() const;
 
     /// Adds every bond's force (positions at the start of the step) to `force` [N/m^3]:
-    /// +F at the receptor; -F to the ligand's wall (nothing in `force` for a domain wall,
-    /// the held faces of a pinned solid; see anchor). Throws RunError for a bond to a
-    /// ligand anchored to nothing. Throws RunError naming the body (and its most
-    /// loaded bond) when its bonds make the explicit springs unstable at this dt, or naming
-    /// the bond (receptor, ligand, positions, force) when a bond's force would move its
-    /// receptor more than max_step_displacement cells in one step.
+    /// +F at the receptor (receptor_motion = flow; rigid: summed into rigid_loads()); -F to the
+    /// ligand's wall (nothing in `force` for a domain wall, the held faces of a pinned solid; see
+    /// anchor). Throws RunError for a bond to a ligand anchored to nothing. Throws RunError naming
+    /// the body (and its most loaded bond) when its bonds make the explicit springs unstable at
+    /// this dt, or naming the bond (receptor, ligand, positions, force) when a bond's force would
+    /// move its receptor more than max_step_displacement cells in one step.
     void add_bond_forces(VelocityField& force, real dt);
 
+    /// With receptor_motion = rigid, add_bond_forces spreads no force at the receptors: the
+    /// bonds' force and torque on each body are here instead, rigid_loads()[i] for bodies()[i]
+    /// (zero without bonds), for the caller to spread over the body (bodies/rigid_fit.hpp).
+    /// The reactions on the walls are as with flow-carried receptors. Empty otherwise.
+    std::span<const RigidLoad> rigid_loads() const { return rigid_loads_; }
+
     /// One step's kinetics (bonds break and form, from the states at the start of the step,
-    /// draws keyed by `step`), then every receptor carried with `u` (the velocity the bodies
-    /// moved with; halos filled) by the midpoint rule, periodic directions wrapped. Throws
-    /// RunError naming the receptor when one leaves the domain through a wall. Collective:
-    /// every rank calls it.
-    void advance(const VelocityField& u, real dt, std::uint64_t step);
+    /// draws keyed by `step`), then the receptors moved (periodic directions wrapped): with
+    /// receptor_motion = rigid, those of bodies()[i] with motions[i] (the rigid motion fitted
+    /// to the flow over that body at the start of the step, bodies/rigid_fit.hpp); with
+    /// receptor_motion = flow, each with `u` (the velocity the bodies moved with; halos
+    /// filled) by the midpoint rule, and `motions` is not read. Throws RunError naming the
+    /// receptor when one leaves the domain through a wall. Collective: every rank calls it.
+    void advance(const VelocityField& u, real dt, std::uint64_t step,
+                 std::span<const RigidMotion> motions = {});
+
+    /// Whether advance needs the bodies' rigid motions (receptor_motion = rigid).
+    bool moves_rigidly() const { return active_ && motion_ == ReceptorMotion::rigid; }
 
     std::span<const Receptor> receptors() const { return receptors_; }
     std::span<const BodyReceptors> bodies() const { return bodies_; }
@@ -159,8 +188,14 @@ class Coupling {
     std::size_t bond_count() const;
     const SpringLimits& limits() const { return limits_; }
 
-    /// Carries the receptors with `u` only (no kinetics): the advection part of advance.
+    /// Carries the receptors with `u` only (no kinetics): the flow part of advance.
     void carry(const VelocityField& u, real dt);
+    /// Moves the receptors of bodies()[i] with motions[i] only (no kinetics): the rigid part
+    /// of advance. The motion's centre may be in any periodic image of the body. A cloud the
+    /// motion takes through a no-slip wall of the domain is lifted back along the wall's
+    /// normal until its farthest receptor is exactly on the wall (stats().wall_lift): the
+    /// body is then in contact (see add_bond_forces and support_on_walls).
+    void carry_rigidly(std::span<const RigidMotion> motions, real dt);
 
     /// Writes the state a restart needs into `r`: arrays receptor_id, receptor_x (x y z per
     /// receptor, in receptors() order) and receptor_ligand (no_ligand when free).
@@ -175,6 +210,16 @@ class Coupling {
                 bool strict);
     void kinetics(real dt, std::uint64_t step);
     void update_bounds(BodyReceptors& b);
+    /// Contact (receptor_motion = rigid): a body with a receptor exactly on a no-slip wall
+    /// (carry_rigidly put it there) and pulled towards it by its bonds is pushed back by the
+    /// wall at that receptor with the normal part of the pull: a rigid body pressed on a rigid
+    /// wall does not move into it, so the wall carries that part (stats().wall_support).
+    void support_on_walls(const BodyReceptors& b, RigidLoad& load);
+    /// Stores the moved positions x_ (checked inside the walls) and wraps the clouds.
+    void place_moved();
+    /// Throws RunError naming the first receptor (index into receptors_) outside a wall.
+    void check_inside(std::span<const Real3> at) const;
+    std::string body_name_of(std::size_t k) const;
     /// x wrapped into the domain along the periodic directions.
     Real3 canonical(Real3 x) const;
     /// The periodic image of x nearest to `anchor`.
@@ -190,6 +235,7 @@ class Coupling {
     const Decomposition* dec_ = nullptr;
     AdhesionParameters p_;
     real max_step_displacement_ = 0.5;
+    ReceptorMotion motion_ = ReceptorMotion::flow;
     std::optional<Kinetics> kin_;
     LigandSet ligands_;
     std::vector<Receptor> receptors_;
@@ -199,11 +245,14 @@ class Coupling {
     HeldSpreader held_spreader_;
     const VelocityField* pinning_ = nullptr;
     std::vector<LigandAnchor> anchor_;
+    std::array<std::array<bool, 2>, 3> no_slip_{}; ///< no-slip walls of the domain (anchor)
     std::vector<Real3> held_x_, held_f_;
     std::vector<Real3> x_, v_;
     std::vector<Receptor> work_;
     std::vector<Proposal> proposals_;
     std::vector<BondLoad> loads_;
+    std::vector<RigidLoad> rigid_loads_;
+    RigidLoad scratch_load_;
     CouplingStats stats_;
 };
 

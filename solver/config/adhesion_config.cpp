@@ -87,6 +87,16 @@ AdhesionConfig read_adhesion(TableReader& top, const GlobalGrid& grid,
         r.number("max_step_displacement", 0.5, Range{0, 1, true}, "cells",
                  "a bond whose force would move its receptor farther than this in one step stops "
                  "the run (the per-bond force limit, docs/method.md)");
+    a.receptor_motion =
+        r.string(
+            "receptor_motion", "flow", {"flow", "rigid"},
+            "how the receptors move: \"flow\" each with the flow interpolated at its "
+            "position (they follow the body as it deforms, and slide over its surface); "
+            "\"rigid\" with the rigid motion fitted to the flow over their body, whose "
+            "bonds then load it as a rigid body, with contact on the walls (docs/method.md)") ==
+                "rigid"
+            ? ReceptorMotion::rigid
+            : ReceptorMotion::flow;
     for (TableReader& t : r.tables(
              "ligand_regions", "vWF ligands on a wall box (a patch on a wall is a box of zero "
                                "thickness): within half a cell of a no-slip wall of the "
@@ -215,6 +225,8 @@ std::string adhesion_fingerprint(const AdhesionConfig& a) {
                                    "slip_distance {:.17g}",
                                    p.catch_rate, p.catch_distance, p.slip_rate, p.slip_distance));
     line("max_step_displacement", num(a.max_step_displacement));
+    // Only when not the default, so that checkpoints from before the key keep their fingerprint.
+    if (a.receptor_motion == ReceptorMotion::rigid) line("receptor_motion", "rigid");
     line("ligand_regions.count", std::to_string(a.ligand_regions.size()));
     for (std::size_t i = 0; i < a.ligand_regions.size(); ++i) {
         const adhesion::LigandRegion& r = a.ligand_regions[i];

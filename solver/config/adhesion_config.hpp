@@ -31,8 +31,15 @@ struct ReceptorGroupConfig {
     real density = 0;           ///< [1/m^2] as given; 0 when `count` was given
 };
 
+/// How the receptors move between steps (docs/method.md, "Receptors move with the platelet").
+enum class ReceptorMotion : std::uint8_t {
+    flow, ///< each with the flow interpolated at its position (the default)
+    rigid ///< with the rigid motion fitted to the flow over their body, loading it rigidly
+};
+
 struct AdhesionConfig {
     bool enabled = false; ///< an [adhesion] table is present
+    ReceptorMotion receptor_motion = ReceptorMotion::flow;
     adhesion::AdhesionParameters parameters;
     std::uint64_t seed = 1;
     /// Largest distance [cells] a bond's force may move its receptor in one step (the

@@ -11,7 +11,8 @@ namespace efsi {
 const char* AdhesionRecord::csv_header() {
     return "step,time,bonds,formed,broken,free_near,bodies_near,max_tension,time_step_limit,"
            "force_bodies_x,force_bodies_y,force_bodies_z,reaction_walls_x,reaction_walls_y,"
-           "reaction_walls_z,reaction_held_x,reaction_held_y,reaction_held_z";
+           "reaction_walls_z,reaction_held_x,reaction_held_y,reaction_held_z,wall_lift,"
+           "wall_support_x,wall_support_y,wall_support_z";
 }
 
 void AdhesionRecord::after_forces(const adhesion::Coupling& c, real dt) {
@@ -28,6 +29,8 @@ void AdhesionRecord::after_advance(const adhesion::Coupling& c, real time) {
     const adhesion::StepStats& k = c.stats().kinetics;
     formed_ += k.formed;
     broken_ += k.broken;
+    lift_ += c.stats().wall_lift;
+    total_lift_ += c.stats().wall_lift;
     total_formed_ += k.formed;
     total_broken_ += k.broken;
     const std::size_t bonds = c.bond_count();
@@ -50,11 +53,14 @@ bool AdhesionRecord::append_row(const std::filesystem::path& file, const adhesio
                            std::isfinite(limit) ? limit : 0.0);
         for (const Real3* v : {&s.force_on_bodies, &s.reaction_on_walls, &s.reaction_on_held})
             out << fmt::format(",{:.10e},{:.10e},{:.10e}", (*v)[0], (*v)[1], (*v)[2]);
-        out << "\n";
+        out << fmt::format(",{:.6e}", lift_);
+        out << fmt::format(",{:.10e},{:.10e},{:.10e}\n", s.wall_support[0], s.wall_support[1],
+                           s.wall_support[2]);
         out.close();
         ok = static_cast<bool>(out);
     }
     formed_ = broken_ = 0;
+    lift_ = 0;
     return ok;
 }
 
@@ -73,6 +79,7 @@ nlohmann::json AdhesionRecord::summary(const adhesion::Coupling& c) const {
         {"first_bond_time",
          first_bond_time_ < 0 ? nlohmann::json(nullptr) : nlohmann::json(first_bond_time_)},
         {"max_tension", max_tension_},
+        {"wall_lift", total_lift_},
         {"force_on_bodies", {s.force_on_bodies[0], s.force_on_bodies[1], s.force_on_bodies[2]}},
         {"reaction_on_walls",
          {s.reaction_on_walls[0], s.reaction_on_walls[1], s.reaction_on_walls[2]}},
@@ -86,14 +93,14 @@ nlohmann::json AdhesionRecord::summary(const adhesion::Coupling& c) const {
 void AdhesionRecord::save(StateRecord& r) const {
     r.integers["record_counts"] = {formed_, broken_, total_formed_, total_broken_, max_bonds_};
     std::vector<double>& v = r.reals["record_reals"];
-    v = {first_bond_time_, smallest_limit_, max_tension_};
+    v = {first_bond_time_, smallest_limit_, max_tension_, lift_, total_lift_};
     for (const Real3* i : {&impulse_bodies_, &impulse_walls_, &impulse_held_})
         v.insert(v.end(), i->begin(), i->end());
 }
 
 void AdhesionRecord::restore(const StateRecord& r) {
     const std::vector<std::uint64_t>& n = r.integer_array("record_counts", 5);
-    const std::vector<double>& v = r.real_array("record_reals", 12);
+    const std::vector<double>& v = r.real_array("record_reals", 14);
     formed_ = n[0];
     broken_ = n[1];
     total_formed_ = n[2];
@@ -102,10 +109,12 @@ void AdhesionRecord::restore(const StateRecord& r) {
     first_bond_time_ = v[0];
     smallest_limit_ = v[1];
     max_tension_ = v[2];
+    lift_ = v[3];
+    total_lift_ = v[4];
     for (int a = 0; a < 3; ++a) {
-        impulse_bodies_[a] = v[3 + a];
-        impulse_walls_[a] = v[6 + a];
-        impulse_held_[a] = v[9 + a];
+        impulse_bodies_[a] = v[5 + a];
+        impulse_walls_[a] = v[8 + a];
+        impulse_held_[a] = v[11 + a];
     }
 }
 

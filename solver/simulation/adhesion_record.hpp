@@ -1,7 +1,8 @@
 // What a run records of platelet adhesion (docs/output.md, docs/method.md "Adhesion in the
 // time step"): adhesion.csv, one row per diagnostics step (bonds held, formed and broken since
 // the previous row, free receptors near a ligand box, largest tension, the bond springs'
-// time-step limit), and the `adhesion` entry of summary.json (totals over the run).
+// time-step limit, how far rigid receptors were lifted back onto a wall), and the `adhesion` entry
+// of summary.json (totals over the run).
 #pragma once
 
 #include "adhesion/coupling.hpp"
@@ -42,7 +43,9 @@ class AdhesionRecord {
     real first_bond_time_ = -1; ///< end of the step that formed the first bond [s]
     real smallest_limit_ = std::numeric_limits<real>::infinity(); ///< [s]
     real max_tension_ = 0;                                        ///< [N]
-    Real3 impulse_bodies_{}, impulse_walls_{}, impulse_held_{};   ///< sum of F dt [N s]
+    real lift_ = 0;       ///< receptors lifted back onto walls since the last row [m]
+    real total_lift_ = 0; ///< the same over the run [m]
+    Real3 impulse_bodies_{}, impulse_walls_{}, impulse_held_{}; ///< sum of F dt [N s]
 };
 
 } // namespace efsi

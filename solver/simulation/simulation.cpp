@@ -1,5 +1,6 @@
 #include "simulation/simulation.hpp"
 
+#include "bodies/rigid_fit.hpp"
 #include "core/error.hpp"
 #include "flow/initial_conditions.hpp"
 #include "io/field_output.hpp"
@@ -187,6 +188,15 @@ void Simulation::apply_body_stresses(real dt) {
     // receptor, -F to the ligand's wall (docs/method.md, "The wall takes the reaction").
     try {
         adhesion_->add_bond_forces(*force_, dt);
+        // Receptors that move with their body's rigid motion load it as a rigid body: the
+        // bonds' force and torque spread over the body (the fit's adjoint).
+        const auto loads = adhesion_->rigid_loads();
+        for (std::size_t i = 0; i < loads.size(); ++i) {
+            if (loads[i].empty()) continue;
+            Body& b = *bodies_->bodies()[adhesion_->bodies()[i].body];
+            halos_->fill(b.phi(), b.patch());
+            spread_rigid_load(b, loads[i], *dec_, *force_);
+        }
     } catch (const RunError& e) {
         throw RunError(unstable_message(e.what()));
     }
@@ -206,15 +216,31 @@ void Simulation::advance_bodies(real dt) {
     }
     timers_.time("halo", [&] { halos_->fill(*u_mid_); });
     try {
+        // The receptors' bodies' rigid motions, fitted to u_mid over where they are now.
+        if (adhesion_ && adhesion_->moves_rigidly())
+            timers_.time("adhesion", [&] { fit_receptor_motions(); });
         bodies_->advance(*u_mid_, dt, s.step, timers_);
         // The bonds break and form (states at the start of the step, draws keyed by the
-        // step's index at its start), then the receptors move with the bodies' velocity.
+        // step's index at its start), then the receptors move with their bodies.
         if (adhesion_)
-            timers_.time("adhesion", [&] { adhesion_->advance(*u_mid_, dt, s.step - 1); });
+            timers_.time("adhesion",
+                         [&] { adhesion_->advance(*u_mid_, dt, s.step - 1, receptor_motions_); });
     } catch (const RunError& e) {
         throw RunError(unstable_message(e.what()));
     }
     if (adhesion_) adhesion_record_.after_advance(*adhesion_, s.time);
+}
+
+void Simulation::fit_receptor_motions() {
+    const auto groups = adhesion_->bodies();
+    receptor_motions_.resize(groups.size());
+    for (std::size_t i = 0; i < groups.size(); ++i) {
+        const adhesion::BodyReceptors& r = groups[i];
+        Real3 near;
+        for (int a = 0; a < 3; ++a)
+            near[a] = 0.5 * (r.lo[a] + r.hi[a]);
+        receptor_motions_[i] = fit_rigid_motion(*bodies_->bodies()[r.body], *u_mid_, *dec_, near);
+    }
 }
 
 std::vector<TimeStepLimit> Simulation::time_step_limits() {

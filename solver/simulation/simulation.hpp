@@ -52,6 +52,9 @@ class Simulation {
     /// Carry the bodies with (v^n + v^{n+1}) / 2 (u_mid_ holds v^n on entry), then the
     /// adhesion's kinetics and receptors with the same velocity.
     void advance_bodies(real dt);
+    /// receptor_motions_[i]: the rigid motion of u_mid_ fitted over the body of the
+    /// adhesion's i-th receptor group (receptor_motion = rigid).
+    void fit_receptor_motions();
     /// The named explicit limits of this step: the bodies' (fixed) and the adhesion's (set
     /// by the bonds now held).
     std::vector<TimeStepLimit> time_step_limits();
@@ -89,9 +92,10 @@ class Simulation {
     std::unique_ptr<VelocityField> force_;   ///< body force density; only if a body adds one
     /// Platelet adhesion (receptors, ligands, bonds); null without [adhesion].
     std::unique_ptr<adhesion::Coupling> adhesion_;
-    AdhesionRecord adhesion_record_;         ///< adhesion.csv and summary.json (with adhesion_)
-    std::unique_ptr<VelocityField> u_mid_;   ///< (v^n + v^{n+1}) / 2 that carries the bodies
-    std::unique_ptr<VelocityField> pinning_; ///< K = dt chi / tau; only with fixed walls
+    AdhesionRecord adhesion_record_;            ///< adhesion.csv and summary.json (with adhesion_)
+    std::vector<RigidMotion> receptor_motions_; ///< per receptor group, this step's fit
+    std::unique_ptr<VelocityField> u_mid_;      ///< (v^n + v^{n+1}) / 2 that carries the bodies
+    std::unique_ptr<VelocityField> pinning_;    ///< K = dt chi / tau; only with fixed walls
     StageTimers timers_;
     RunClock clock_;
     Diagnostics last_;

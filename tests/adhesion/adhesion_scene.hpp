@@ -78,6 +78,9 @@ inline AdhesionConfig adhesion_config(std::size_t bodies, std::uint64_t count, R
     a.seed = 11;
     a.ligand_regions.push_back({patch_lo, patch_hi, 50 * nm});
     a.ligand_density.push_back(1 / (50 * nm * 50 * nm));
+    // These tests give the receptors a velocity field and no body: carried by the flow (the
+    // rigid motion is tested with its fit, test_adhesion_receptors.cpp).
+    a.receptor_motion = ReceptorMotion::flow;
     for (std::size_t k = 0; k < bodies; ++k)
         a.receptors.push_back({"", k, count, 0});
     return a;

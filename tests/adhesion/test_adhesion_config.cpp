@@ -125,6 +125,13 @@ TEST(AdhesionConfig, ReadsTheTableAndLeavesItOffWithoutIt) {
     // One fingerprint line per key, so that a refused checkpoint names the key.
     EXPECT_THAT(case_fingerprint(c), HasSubstr("adhesion.receptors[0].count = 500\n"));
     EXPECT_THAT(case_fingerprint(c), HasSubstr("adhesion.seed = 5\n"));
+    // Receptors follow the flow unless asked to move rigidly with their body.
+    EXPECT_EQ(a.receptor_motion, ReceptorMotion::flow);
+    EXPECT_EQ(case_fingerprint(c).find("receptor_motion"), std::string::npos);
+    const Config rigid =
+        case_from(scene + adhesion_table, {{"adhesion.receptor_motion", "\"rigid\""}});
+    EXPECT_EQ(rigid.adhesion.receptor_motion, ReceptorMotion::rigid);
+    EXPECT_THAT(case_fingerprint(rigid), HasSubstr("adhesion.receptor_motion = rigid\n"));
 
     // A density gives density x area receptors (the oblate spheroid's area).
     const Config d = case_from(scene + adhesion_table, {{"adhesion.receptors[0].count", "0"},
@@ -134,9 +141,9 @@ TEST(AdhesionConfig, ReadsTheTableAndLeavesItOffWithoutIt) {
     EXPECT_GT(d.adhesion.receptors[0].count, 300u);
     // The key table documents the adhesion keys.
     const std::string md = case_reference_markdown();
-    for (const char* k :
-         {"`adhesion.k_on`", "`adhesion.seed`", "`adhesion.ligand_regions[].density`",
-          "`adhesion.receptors[].body`", "`adhesion.max_step_displacement`"})
+    for (const char* k : {"`adhesion.k_on`", "`adhesion.seed`",
+                          "`adhesion.ligand_regions[].density`", "`adhesion.receptors[].body`",
+                          "`adhesion.max_step_displacement`", "`adhesion.receptor_motion`"})
         EXPECT_THAT(md, HasSubstr(k));
 }
 
@@ -152,6 +159,8 @@ TEST(AdhesionConfig, BadInputNamesTheKey) {
                 HasSubstr("adhesion.reactive_distance"));
     EXPECT_THAT(error({{"adhesion.law", "\"catch_slip\""}}), HasSubstr("adhesion.catch_rate"));
     EXPECT_THAT(error({{"adhesion.typo", "1"}}), HasSubstr("adhesion.typo: unknown key"));
+    EXPECT_THAT(error({{"adhesion.receptor_motion", "\"drift\""}}),
+                HasSubstr("adhesion.receptor_motion"));
     // A ligand region outside the domain.
     EXPECT_THAT(error({{"adhesion.ligand_regions[0].hi", "[5.9e-6, 0.0, 4.5e-6]"}}),
                 HasSubstr("adhesion.ligand_regions[0]: the box"));

@@ -148,6 +148,57 @@ TEST(AdhesionCarry, UniformFlowMovesReceptorsExactly) {
     EXPECT_EQ(wraps, 2); // once in x, once in z
 }
 
+TEST(AdhesionCarry, RigidMotionKeepsReceptorsOnTheirBody) {
+    // A spinning, translating sphere: every receptor stays at the radius from the moved
+    // centre and keeps its distance to every other (round-off), over 400 steps that take the
+    // cloud across the periodic seams in x and z (the motion's centre given in another image).
+    test::Channel c = test::make_channel({16, 16, 16}, 0.25 * um);
+    const Real3 centre{3.5 * um, 2 * um, 0.5 * um};
+    const real r = 1 * um;
+    std::vector<BodyConfig> bodies{test::sphere_body("p", centre, r)};
+    AdhesionConfig cfg = adhesion_config(1, 300, {0, 0, 0}, {0, 0, 0});
+    cfg.receptor_motion = ReceptorMotion::rigid;
+    Coupling cp(cfg, bodies, *c.dec, 1000, 1e-3);
+    ASSERT_TRUE(cp.moves_rigidly());
+    RigidMotion m;
+    m.centre = {centre[0] - c.g.length[0], centre[1], centre[2] + c.g.length[2]};
+    m.velocity = {2e-4, 0, -1e-4};
+    m.spin = {300, -150, 700};
+    const std::vector<Receptor> start(cp.receptors().begin(), cp.receptors().end());
+    const real dt = 1e-4;
+    Real3 moved = centre; // the centre in the image the cloud is in
+    int wraps = 0;
+    for (int step = 0; step < 400; ++step) {
+        cp.carry_rigidly({&m, 1}, dt);
+        for (int a = 0; a < 3; ++a) {
+            m.centre[a] += dt * m.velocity[a];
+            moved[a] += dt * m.velocity[a];
+        }
+        const auto q = cp.receptors();
+        // Follow the cloud's wraps: it is shifted by a box length as a whole.
+        for (int a : {0, 2}) {
+            const real s = std::round((q[0].x[a] - moved[a]) / c.g.length[a]);
+            if (s != 0) ++wraps;
+            moved[a] += s * c.g.length[a];
+        }
+        for (const Receptor& p : q)
+            ASSERT_NEAR(std::hypot(p.x[0] - moved[0], p.x[1] - moved[1], p.x[2] - moved[2]), r,
+                        1e-9 * r)
+                << "step " << step;
+    }
+    EXPECT_EQ(wraps, 3); // x: 3.5 -> 11.5 um in a 4 um box (twice), z: 0.5 -> -3.5 um (once)
+    const auto q = cp.receptors();
+    for (std::size_t k = 1; k < q.size(); k += 37) {
+        const real d0 = std::hypot(start[k].x[0] - start[0].x[0], start[k].x[1] - start[0].x[1],
+                                   start[k].x[2] - start[0].x[2]);
+        const real d =
+            std::hypot(q[k].x[0] - q[0].x[0], q[k].x[1] - q[0].x[1], q[k].x[2] - q[0].x[2]);
+        EXPECT_NEAR(d, d0, 1e-9 * r);
+    }
+    // The same positions on every rank.
+    EXPECT_EQ(test::spread_over_ranks(q[5].x[0]), 0.0);
+}
+
 TEST(AdhesionCarry, LinearShearIsExactAndParabolicFlowSecondOrder) {
     // u_x = G (y - y0) with walls moving accordingly: trilinear interpolation is exact.
     const real G = 500, y0 = 1.3 * um;

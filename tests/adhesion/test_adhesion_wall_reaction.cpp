@@ -217,3 +217,53 @@ TEST(AdhesionForces, LigandsOnAFreeSlipBoundaryOrInTheFluidAreRefused) {
         EXPECT_THAT(e.what(), HasSubstr("adhesion.ligand_regions[1]"));
     }
 }
+
+TEST(AdhesionForces, RigidReceptorsLoadTheirBodyAndTheWallSupportsIt) {
+    // receptor_motion = rigid: the platelet is moved onto the wall (its cloud is lifted back
+    // onto y = 0), bonds form, then it slides along x, stretching them. The bonds' force and
+    // torque go to rigid_loads() and nothing into the field; in contact, the wall carries the
+    // bonds' pull towards it (wall_support), and momentum balances at every step.
+    BondScene s;
+    s.cfg.receptor_motion = ReceptorMotion::rigid;
+    Coupling cp(s.cfg, s.bodies, *s.c.dec, 1000, 1e-3);
+    ASSERT_TRUE(cp.moves_rigidly());
+    const VelocityField rest = zero_field(s.c);
+    const real dt = 1e-7;
+    std::vector<RigidMotion> m(2);
+    m[0].centre = s.bodies[0].centre;
+    m[1].centre = s.bodies[1].centre;
+    int supported = 0;
+    real lifted = 0;
+    for (std::uint64_t step = 0; step < 80; ++step) {
+        m[0].velocity = step < 30 ? Real3{0, -1.5e-2, 0} : Real3{1e-2, 0, 0};
+        cp.advance(rest, dt, step, m);
+        lifted += cp.stats().wall_lift;
+        for (int a = 0; a < 3; ++a)
+            m[0].centre[a] += dt * m[0].velocity[a];
+        VelocityField f = zero_field(s.c);
+        cp.add_bond_forces(f, dt);
+        const CouplingStats& st = cp.stats();
+        ASSERT_EQ(cp.rigid_loads().size(), 2u);
+        const RigidLoad& load = cp.rigid_loads()[0];
+        for (int a = 0; a < 3; ++a) {
+            // The load is the bonds' force plus the wall's support; the walls take minus it.
+            EXPECT_DOUBLE_EQ(load.force[a], st.force_on_bodies[a]) << "step " << step;
+            EXPECT_NEAR(st.reaction_on_walls[a], -st.force_on_bodies[a],
+                        1e-12 * (std::abs(st.force_on_bodies[a]) + 1e-15));
+            EXPECT_EQ(test::total_force(f, s.c)[a], 0.0); // nothing spread at the receptors
+        }
+        EXPECT_TRUE(cp.rigid_loads()[1].empty()); // the far body holds no bond
+        EXPECT_GE(st.wall_support[1], 0.0);       // a wall only pushes
+        if (st.wall_support[1] > 0) {
+            ++supported;
+            EXPECT_EQ(load.force[1], 0.0); // the pull towards the wall is carried by it
+        }
+    }
+    EXPECT_GT(cp.bodies()[0].bonds, 5u);
+    EXPECT_GT(lifted, 0.0);
+    EXPECT_GT(supported, 0);
+    // Every receptor stays inside the walls and the same on every rank.
+    for (const Receptor& r : cp.receptors())
+        EXPECT_GE(r.x[1], 0.0);
+    EXPECT_EQ(spread_over_ranks(cp.receptors()[7].x[0]), 0.0);
+}

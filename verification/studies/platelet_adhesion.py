@@ -31,7 +31,11 @@ bond count and platelet-wall gap (centroid height minus radius) against time
 second half of the run, against the same platelet without adhesion
 (`free_velocity_um_s_at_<rate>`, `velocity_ratio_at_<rate>`). The bond reactions are taken
 by the wall (docs/method.md, "The wall takes the reaction"); `wall_impulse_balance_at_<rate>`
-checks that the walls' impulse is minus the bonds' impulse on the platelet. ci: one coarse
+checks that the walls' impulse is minus the bonds' impulse on the platelet. Each rate is run
+twice with adhesion: receptors carried by the flow (the default) and receptors moving with
+the platelet's fitted rigid motion (adhesion.receptor_motion = "rigid", which loads the
+platelet as a rigid body and lets the wall support it; the same metrics suffixed `_rigid`,
+e.g. `translocation_velocity_um_s_at_<rate>_rigid`). ci: one coarse
 short run (h = 0.5 um, 0.5 ms, 500 1/s); quick: h = 0.25 um, 1 ms at 250, 500 and
 1000 1/s. Published translocation velocities (Doggett et al. 2002, Mody & King 2008) could
 not be consulted for this study: no comparison with measurements is made (notes).
@@ -142,9 +146,9 @@ HEIGHT = 4.0e-6   # channel height H [m] (the case's)
 RADIUS = 1.0e-6   # platelet radius [m]
 
 
-def shear_case(ctx, rate, cells, end_time, adhesion):
+def shear_case(ctx, rate, cells, end_time, adhesion, motion="flow"):
     """The case's text at wall shear rate `rate`, grid `cells`, `end_time`, with or without
-    its [adhesion] table (and its sub-tables)."""
+    its [adhesion] table (and its sub-tables); `motion` is adhesion.receptor_motion."""
     import re
     text = (ctx.repo / CASE).read_text()
     u = rate * HEIGHT
@@ -154,6 +158,8 @@ def shear_case(ctx, rate, cells, end_time, adhesion):
     text = text.replace("end_time = 5.0e-4", f"end_time = {end_time!r}")
     if not adhesion:
         text = text[:text.index("[adhesion]")] + text[text.index("[output]"):]
+    elif motion != "flow":
+        text = text.replace("[adhesion]\n", f'[adhesion]\nreceptor_motion = "{motion}"\n', 1)
     return text
 
 
@@ -166,12 +172,17 @@ def read_csv(path):
 def shear_runs(ctx, metrics, tables, notes):
     cfg = SHEAR[ctx.tier]
     rows, series = [], {}
+    # Each rate: receptors carried by the flow (the default), receptors moving with the
+    # platelet's fitted rigid motion (metrics suffixed _rigid), and no adhesion.
     for rate in cfg["rates"]:
         res = {}
-        for adhesion in (True, False):
-            tag = f"shear{rate}_{'adhesion' if adhesion else 'free'}"
+        for variant in ("flow", "rigid", None):
+            adhesion = variant is not None
+            tag = f"shear{rate}_" + {"flow": "adhesion", "rigid": "adhesion_rigid",
+                                     None: "free"}[variant]
             case = ctx.outdir / f"{tag}.toml"
-            case.write_text(shear_case(ctx, rate, cfg["cells"], cfg["end_time"], adhesion))
+            case.write_text(shear_case(ctx, rate, cfg["cells"], cfg["end_time"], adhesion,
+                                       variant or "flow"))
             out = ctx.outdir / tag
             summ = ctx.run_efsi(case, out)
             b = read_csv(out / "bodies.csv")
@@ -180,48 +191,58 @@ def shear_runs(ctx, metrics, tables, notes):
             y = np.array([float(r["centroid_y"]) for r in b])
             half = int(np.searchsorted(t, 0.5 * t[-1]))
             v = (x[-1] - x[half]) / (t[-1] - t[half])
-            res[adhesion] = dict(summary=summ, t=t, x=x, gap=y - RADIUS, v=v,
-                                 adh=read_csv(out / "adhesion.csv") if adhesion else None)
-        on, off = res[True], res[False]
-        a = on["summary"]["adhesion"]
-        bonds = np.array([int(r["bonds"]) for r in on["adh"]])
-        tb = np.array([float(r["time"]) for r in on["adh"]])
-        ib, iw = np.array(a["impulse_on_bodies"]), np.array(a["impulse_on_walls"])
-        iw = iw + np.array(a["impulse_on_held"])
-        key = f"{rate:g}"
-        metrics[f"translocation_velocity_um_s_at_{key}"] = on["v"] * 1e6
-        metrics[f"free_velocity_um_s_at_{key}"] = off["v"] * 1e6
-        metrics[f"velocity_ratio_at_{key}"] = on["v"] / off["v"]
-        metrics[f"max_bonds_at_{key}"] = int(a["max_bonds"])
-        metrics[f"mean_bonds_second_half_at_{key}"] = float(bonds[tb >= 0.5 * tb[-1]].mean())
-        metrics[f"min_gap_nm_at_{key}"] = float(on["gap"].min() * 1e9)
-        metrics[f"final_gap_nm_at_{key}"] = float(on["gap"][-1] * 1e9)
-        metrics[f"impulse_on_platelet_x_Ns_at_{key}"] = float(ib[0])
-        nb = float(np.linalg.norm(ib))
-        metrics[f"wall_impulse_balance_at_{key}"] = (float(np.linalg.norm(ib + iw)) / nb
-                                                    if nb > 0 else 0.0)
-        rows.append({"shear_rate_per_s": rate, "translocation_velocity_um_s": on["v"] * 1e6,
-                     "free_velocity_um_s": off["v"] * 1e6, "ratio": on["v"] / off["v"],
-                     "gamma_a_um_s": rate * RADIUS * 1e6, "max_bonds": int(a["max_bonds"]),
-                     "bonds_formed": int(a["bonds_formed"]), "bonds_broken": int(a["bonds_broken"]),
-                     "first_bond_time_s": a["first_bond_time"],
-                     "max_tension_pN": a["max_tension"] * 1e12,
-                     "impulse_on_platelet_Ns": list(ib), "impulse_on_walls_Ns": list(iw),
-                     "min_gap_nm": float(on["gap"].min() * 1e9)})
-        series[rate] = (tb, bonds, on, off)
+            res[variant] = dict(summary=summ, t=t, x=x, gap=y - RADIUS, v=v,
+                                adh=read_csv(out / "adhesion.csv") if adhesion else None)
+        off = res[None]
+        metrics[f"free_velocity_um_s_at_{rate:g}"] = off["v"] * 1e6
+        for variant in ("flow", "rigid"):
+            on = res[variant]
+            a = on["summary"]["adhesion"]
+            bonds = np.array([int(r["bonds"]) for r in on["adh"]])
+            tb = np.array([float(r["time"]) for r in on["adh"]])
+            ib, iw = np.array(a["impulse_on_bodies"]), np.array(a["impulse_on_walls"])
+            iw = iw + np.array(a["impulse_on_held"])
+            key = f"{rate:g}" + ("" if variant == "flow" else "_rigid")
+            metrics[f"translocation_velocity_um_s_at_{key}"] = on["v"] * 1e6
+            metrics[f"velocity_ratio_at_{key}"] = on["v"] / off["v"]
+            metrics[f"max_bonds_at_{key}"] = int(a["max_bonds"])
+            metrics[f"mean_bonds_second_half_at_{key}"] = float(bonds[tb >= 0.5 * tb[-1]].mean())
+            metrics[f"min_gap_nm_at_{key}"] = float(on["gap"].min() * 1e9)
+            metrics[f"final_gap_nm_at_{key}"] = float(on["gap"][-1] * 1e9)
+            metrics[f"impulse_on_platelet_x_Ns_at_{key}"] = float(ib[0])
+            nb = float(np.linalg.norm(ib))
+            metrics[f"wall_impulse_balance_at_{key}"] = (float(np.linalg.norm(ib + iw)) / nb
+                                                        if nb > 0 else 0.0)
+            rows.append({"shear_rate_per_s": rate, "receptor_motion": variant,
+                         "translocation_velocity_um_s": on["v"] * 1e6,
+                         "free_velocity_um_s": off["v"] * 1e6, "ratio": on["v"] / off["v"],
+                         "gamma_a_um_s": rate * RADIUS * 1e6, "max_bonds": int(a["max_bonds"]),
+                         "bonds_formed": int(a["bonds_formed"]),
+                         "bonds_broken": int(a["bonds_broken"]),
+                         "first_bond_time_s": a["first_bond_time"],
+                         "max_tension_pN": a["max_tension"] * 1e12,
+                         "wall_lift_nm": a.get("wall_lift", 0.0) * 1e9,
+                         "impulse_on_platelet_Ns": list(ib), "impulse_on_walls_Ns": list(iw),
+                         "min_gap_nm": float(on["gap"].min() * 1e9)})
+            series[(rate, variant)] = (tb, bonds, on, off)
     tables["translocation"] = rows
 
     fig, axes = plt.subplots(1, 3, figsize=(15, 4))
-    for rate, (tb, bonds, on, off) in series.items():
-        line, = axes[0].plot(tb * 1e3, bonds, "-", label=f"{rate:g} 1/s")
-        axes[1].plot(on["t"] * 1e3, on["gap"] * 1e9, "-", color=line.get_color(),
-                     label=f"{rate:g} 1/s, adhesion")
-        axes[1].plot(off["t"] * 1e3, off["gap"] * 1e9, "--", color=line.get_color(),
-                     label=f"{rate:g} 1/s, free")
-        axes[2].plot(on["t"] * 1e3, (on["x"] - on["x"][0]) * 1e6, "-", color=line.get_color(),
-                     label=f"{rate:g} 1/s, adhesion")
-        axes[2].plot(off["t"] * 1e3, (off["x"] - off["x"][0]) * 1e6, "--",
-                     color=line.get_color(), label=f"{rate:g} 1/s, free")
+    colours = {}
+    for (rate, variant), (tb, bonds, on, off) in series.items():
+        style = "-" if variant == "flow" else ":"
+        line, = axes[0].plot(tb * 1e3, bonds, style, color=colours.get(rate),
+                             label=f"{rate:g} 1/s, {variant}")
+        colours[rate] = line.get_color()
+        axes[1].plot(on["t"] * 1e3, on["gap"] * 1e9, style, color=colours[rate],
+                     label=f"{rate:g} 1/s, adhesion ({variant})")
+        axes[2].plot(on["t"] * 1e3, (on["x"] - on["x"][0]) * 1e6, style, color=colours[rate],
+                     label=f"{rate:g} 1/s, adhesion ({variant})")
+        if variant == "flow":
+            axes[1].plot(off["t"] * 1e3, off["gap"] * 1e9, "--", color=colours[rate],
+                         label=f"{rate:g} 1/s, free")
+            axes[2].plot(off["t"] * 1e3, (off["x"] - off["x"][0]) * 1e6, "--",
+                         color=colours[rate], label=f"{rate:g} 1/s, free")
     axes[0].set(xlabel="t [ms]", ylabel="bonds", title="bond count")
     axes[1].set(xlabel="t [ms]", ylabel="gap [nm]", title="platelet-wall gap (centroid y - a)")
     axes[2].set(xlabel="t [ms]", ylabel="x - x0 [um]", title="platelet displacement")
@@ -255,16 +276,19 @@ FIG5_CASE = "cases/platelet_adhesion_rbc/case.toml"
 FIG5_HT = 0.2
 
 
-def fig5_run(ctx, kind, seed, end_time):
+def fig5_run(ctx, kind, seed, end_time, motion="flow"):
     """One run of the scene, cached (and resumed from its checkpoint) in runs/<key>; with
-    EFSI_VERIFY_RECORDS=1 a committed record stands in for a missing run."""
+    EFSI_VERIFY_RECORDS=1 a committed record stands in for a missing run. `motion` is
+    adhesion.receptor_motion ("flow", the default, or "rigid": key suffix _rigid)."""
     from _flowio import cached_run
 
-    key = f"fig5_{kind}_s{seed}_t{end_time * 1e3:g}ms"
+    key = f"fig5_{kind}_s{seed}_t{end_time * 1e3:g}ms" + ("" if motion == "flow" else f"_{motion}")
     out = ctx.outdir / "runs" / key
     sets = {"time.end_time": repr(end_time),
             "seeding.target_haematocrit": repr(FIG5_HT if kind == "rbc" else 0.0),
             "seeding.seed": seed, "adhesion.seed": seed}
+    if motion != "flow":
+        sets["adhesion.receptor_motion"] = f'"{motion}"'
     cached_run(ctx, ctx.repo / FIG5_CASE, out, sets, t_end=end_time)
     summ = json.loads((out / "summary.json").read_text())
     adh = read_csv(out / "adhesion.csv")
