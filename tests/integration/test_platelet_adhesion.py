@@ -167,3 +167,45 @@ for label, case_path, extra_sets, ckpt, needles in (
     check(all(n in proc.stderr for n in needles) and ckpt in proc.stderr,
           f"restart with {label} refused: {proc.stderr.strip()[:240]}")
     check(not os.path.exists(refused), f"the refused restart ({label}) wrote nothing")
+
+# (7) receptors that move with the platelet (adhesion.receptor_motion = "rigid"): bonds form,
+# 1 and 2 ranks agree (the fit's sums over the ranks round differently: to 1e-10), the cloud
+# keeps its shape, momentum balances exactly with the wall's support, and the bonds, now
+# stretched by the platelet's own motion, slow it more than flow-carried receptors do.
+import h5py  # noqa: E402
+import numpy as np  # noqa: E402
+
+rigid = {}
+for ranks in (1, 2):
+    rigid[ranks] = os.path.join(args.output, f"rigid_np{ranks}")
+    run(args, case, rigid[ranks], ranks=ranks, sets=['adhesion.receptor_motion="rigid"'])
+r1, r2 = summary(rigid[1])["adhesion"], summary(rigid[2])["adhesion"]
+check(r1["max_bonds"] > 0, f"rigid receptors bind: up to {r1['max_bonds']} bonds")
+rb1 = [int(r["bonds"]) for r in rows(rigid[1], "adhesion.csv")]
+rb2 = [int(r["bonds"]) for r in rows(rigid[2], "adhesion.csv")]
+check(rb1 == rb2, f"rigid: bond counts identical on 1 and 2 ranks at all {len(rb1)} rows")
+c1, c2 = summary(rigid[1])["bodies"][0]["centroid"], summary(rigid[2])["bodies"][0]["centroid"]
+err = max(abs(a - b) / abs(a) for a, b in zip(c1, c2))
+check(err <= 1e-10, f"rigid: platelet centroid on 1 and 2 ranks agrees to {err:.1e} relative")
+check(all(w == -b for w, b in zip(r1["reaction_on_walls"], r1["force_on_bodies"])) and
+      all(w == -b for w, b in zip(r1["impulse_on_walls"], r1["impulse_on_bodies"])),
+      f"rigid: the walls' reaction (bonds and contact) is minus the force on the platelet: "
+      f"impulse {r1['impulse_on_bodies']} N s")
+
+
+def receptor_cloud(out):
+    with h5py.File(os.path.join(out, "checkpoint.h5"), "r") as f:
+        x = f["adhesion/receptor_x"][...].reshape(-1, 3)
+    return np.linalg.norm(x - x.mean(axis=0), axis=1)
+
+
+first = os.path.join(args.output, "rigid_first_step")
+run(args, case, first, sets=['adhesion.receptor_motion="rigid"', "time.max_steps=1",
+                             "output.checkpoint_every=1"])
+d0, d1 = receptor_cloud(first), receptor_cloud(rigid[1])
+shape_err = float(np.max(np.abs(d1 - d0)) / np.max(d0))
+check(shape_err <= 1e-9, f"rigid: every receptor keeps its distance to the cloud's centre from "
+      f"step 1 to the end, to {shape_err:.1e} of the radius")
+v_rigid = late_velocity(rigid[1])
+check(v_rigid < v_on, f"rigid receptors slow the platelet more: {v_rigid:.4e} m/s against "
+      f"{v_on:.4e} m/s with flow-carried receptors and {v_off:.4e} m/s without adhesion")
