@@ -250,7 +250,6 @@ void Coupling::add_bond_forces(VelocityField& force, real dt) {
     p.max_bond_force = max_step_displacement_ * limits_.h / (mk * dt);
     const bool rigid = motion_ == ReceptorMotion::rigid;
     if (rigid) rigid_loads_.assign(bodies_.size(), RigidLoad{});
-    const GlobalGrid& g = dec_->grid();
     for (std::size_t i = 0; i < bodies_.size(); ++i) {
         const BodyReceptors& b = bodies_[i];
         if (b.bonds == 0) continue;
@@ -288,19 +287,8 @@ void Coupling::add_bond_forces(VelocityField& force, real dt) {
         for (const BondLoad& l : loads_) {
             if (rigid) {
                 // Summed into the body's force and torque (spread by the caller over the
-                // body, bodies/rigid_fit.hpp); the lever arm by the minimum image.
-                Real3 arm;
-                for (int a = 0; a < 3; ++a) {
-                    arm[a] = l.receptor_x[a] - load.point[a];
-                    if (dec_->periodic()[a])
-                        arm[a] -= g.length[a] * std::round(arm[a] / g.length[a]);
-                }
-                const Real3& F = l.force.on_receptor;
-                for (int a = 0; a < 3; ++a) {
-                    load.force[a] += F[a];
-                    load.torque[a] +=
-                        arm[(a + 1) % 3] * F[(a + 2) % 3] - arm[(a + 2) % 3] * F[(a + 1) % 3];
-                }
+                // body, bodies/rigid_fit.hpp).
+                add_to_load(load, l.receptor_x, l.force.on_receptor);
             } else {
                 stats_.face_writes += spread_force(force, *dec_, l.receptor_x, l.force.on_receptor);
             }
@@ -334,37 +322,6 @@ void Coupling::add_bond_forces(VelocityField& force, real dt) {
     if (!held_x_.empty())
         stats_.face_writes +=
             held_spreader_.spread(force, *pinning_, *dec_, held_x_, held_f_, min_held_share);
-}
-
-void Coupling::support_on_walls(const BodyReceptors& b, RigidLoad& load) {
-    const GlobalGrid& g = dec_->grid();
-    for (int a = 0; a < 3; ++a)
-        for (int side = 0; side < 2; ++side) {
-            if (!no_slip_[a][side]) continue;
-            const real wall = g.origin[a] + side * g.length[a];
-            const real inward = side == 0 ? 1.0 : -1.0;
-            if (load.force[a] * inward >= 0) continue; // not pulled towards this wall
-            // In contact: carry_rigidly put a receptor exactly on the wall.
-            std::size_t on = b.end;
-            for (std::size_t k = b.begin; k < b.end && on == b.end; ++k)
-                if (receptors_[k].x[a] == wall) on = k;
-            if (on == b.end) continue;
-            // The wall pushes back at the contact point with the normal pull.
-            Real3 support{0, 0, 0}, arm;
-            support[a] = -load.force[a];
-            for (int c = 0; c < 3; ++c) {
-                arm[c] = receptors_[on].x[c] - load.point[c];
-                if (dec_->periodic()[c]) arm[c] -= g.length[c] * std::round(arm[c] / g.length[c]);
-            }
-            load.force[a] = 0;
-            for (int c = 0; c < 3; ++c) {
-                load.torque[c] += arm[(c + 1) % 3] * support[(c + 2) % 3] -
-                                  arm[(c + 2) % 3] * support[(c + 1) % 3];
-                stats_.wall_support[c] += support[c];
-                stats_.force_on_bodies[c] += support[c];
-                stats_.reaction_on_walls[c] -= support[c];
-            }
-        }
 }
 
 void Coupling::kinetics(real dt, std::uint64_t step) {
@@ -455,55 +412,6 @@ void Coupling::carry(const VelocityField& u, real dt) {
     for (std::size_t k = 0; k < receptors_.size(); ++k)
         for (int a = 0; a < 3; ++a)
             x_[k][a] = receptors_[k].x[a] + dt * v_[k][a];
-    place_moved();
-}
-
-void Coupling::carry_rigidly(std::span<const RigidMotion> motions, real dt) {
-    if (!active_ || receptors_.empty()) return;
-    if (motions.size() != bodies_.size())
-        throw std::logic_error("Coupling::carry_rigidly: one motion per body with receptors");
-    x_.resize(receptors_.size());
-    const GlobalGrid& g = dec_->grid();
-    for (std::size_t i = 0; i < bodies_.size(); ++i) {
-        const BodyReceptors& b = bodies_[i];
-        // The fitted centre, taken in the periodic image of the receptors' cloud.
-        RigidMotion m = motions[i];
-        for (int a = 0; a < 3; ++a)
-            if (dec_->periodic()[a])
-                m.centre[a] -= g.length[a] *
-                               std::round((m.centre[a] - 0.5 * (b.lo[a] + b.hi[a])) / g.length[a]);
-        for (std::size_t k = b.begin; k < b.end; ++k)
-            x_[k] = m.move(receptors_[k].x, dt);
-        // Non-penetration: a rigid body does not pass a no-slip wall. The fitted motion can
-        // take its surface there (the flow in the gap, thinner than a cell, is not resolved):
-        // the cloud is then lifted back along the wall's normal onto the wall.
-        for (int a = 0; a < 3; ++a) {
-            if (!no_slip_[a][0] && !no_slip_[a][1]) continue;
-            std::size_t lo = b.begin, hi = b.begin;
-            for (std::size_t k = b.begin; k < b.end; ++k) {
-                if (x_[k][a] < x_[lo][a]) lo = k;
-                if (x_[k][a] > x_[hi][a]) hi = k;
-            }
-            const real wall_lo = g.origin[a], wall_hi = g.origin[a] + g.length[a];
-            std::size_t touching = b.end;
-            real lift = 0, wall = 0;
-            if (no_slip_[a][0] && x_[lo][a] < wall_lo) {
-                lift = wall_lo - x_[lo][a];
-                touching = lo;
-                wall = wall_lo;
-            } else if (no_slip_[a][1] && x_[hi][a] > wall_hi) {
-                lift = wall_hi - x_[hi][a];
-                touching = hi;
-                wall = wall_hi;
-            }
-            if (touching == b.end) continue;
-            for (std::size_t k = b.begin; k < b.end; ++k)
-                x_[k][a] += lift;
-            // Exactly on the wall: the contact the bond forces see (support_on_walls).
-            x_[touching][a] = wall;
-            stats_.wall_lift += std::abs(lift);
-        }
-    }
     place_moved();
 }
 

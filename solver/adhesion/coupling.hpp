@@ -215,6 +215,9 @@ class Coupling {
     /// wall at that receptor with the normal part of the pull: a rigid body pressed on a rigid
     /// wall does not move into it, so the wall carries that part (stats().wall_support).
     void support_on_walls(const BodyReceptors& b, RigidLoad& load);
+    /// Adds the force F acting at x to `load` (its moment about load.point, the lever arm by
+    /// the minimum image).
+    void add_to_load(RigidLoad& load, const Real3& x, const Real3& F) const;
     /// Stores the moved positions x_ (checked inside the walls) and wraps the clouds.
     void place_moved();
     /// Throws RunError naming the first receptor (index into receptors_) outside a wall.
