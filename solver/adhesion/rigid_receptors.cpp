@@ -4,6 +4,7 @@
 #include "adhesion/coupling.hpp"
 
 #include "core/error.hpp"
+#include "core/matrix3.hpp"
 
 #include <cmath>
 #include <stdexcept>
@@ -13,9 +14,10 @@ namespace efsi::adhesion {
 void Coupling::add_to_load(RigidLoad& load, const Real3& x, const Real3& F) const {
     const Real3 y = image_near(x, load.point);
     const Real3 arm{y[0] - load.point[0], y[1] - load.point[1], y[2] - load.point[2]};
+    const Real3 moment = cross(arm, F);
     for (int a = 0; a < 3; ++a) {
         load.force[a] += F[a];
-        load.torque[a] += arm[(a + 1) % 3] * F[(a + 2) % 3] - arm[(a + 2) % 3] * F[(a + 1) % 3];
+        load.torque[a] += moment[a];
     }
 }
 

@@ -23,10 +23,6 @@ Real3 image(const Decomposition& dec, const Real3& x, const Real3& near) {
     return r;
 }
 
-Real3 cross(const Real3& a, const Real3& b) {
-    return {a[1] * b[2] - a[2] * b[1], a[2] * b[0] - a[0] * b[2], a[0] * b[1] - a[1] * b[0]};
-}
-
 /// Sums over b's owned cells with phi != 0 of f(phi, cell index, position by the minimum image
 /// about `near`) into `s`, then over the ranks.
 template <std::size_t N, class F>
@@ -58,10 +54,10 @@ void add_inertia(std::array<real, N>& s, real p, const Real3& r) {
 /// The centroid of b (sum phi x / sum phi, in the image of `near`) and sum phi; throws
 /// RunError naming the body when it holds no volume.
 std::pair<Real3, real> centroid(const Body& b, const Decomposition& dec, const Real3& near) {
-    const auto s = body_sums<4>(b, dec, near, [](auto& s, real p, const Int3&, const Real3& x) {
-        s[0] += p;
+    const auto s = body_sums<4>(b, dec, near, [](auto& acc, real p, const Int3&, const Real3& x) {
+        acc[0] += p;
         for (int a = 0; a < 3; ++a)
-            s[1 + a] += p * x[a];
+            acc[1 + a] += p * x[a];
     });
     if (!(s[0] > 0)) throw RunError(fmt::format("body '{}' holds no volume", b.name()));
     return {{s[1] / s[0], s[2] / s[0], s[3] / s[0]}, s[0]};
@@ -93,25 +89,25 @@ RigidMotion fit_rigid_motion(const Body& b, const VelocityField& u, const Decomp
         // The mean velocity, then the inertia and the angular momentum of the velocity
         // relative to it about the centroid (one pass, one collective).
         const auto s =
-            body_sums<3>(b, dec, near, [&](auto& s, real p, const Int3& q, const Real3&) {
+            body_sums<3>(b, dec, near, [&](auto& acc, real p, const Int3& q, const Real3&) {
                 const Real3 v = velocity(q);
                 for (int a = 0; a < 3; ++a)
-                    s[a] += p * v[a];
+                    acc[a] += p * v[a];
             });
         for (int a = 0; a < 3; ++a)
             m.velocity[a] = s[a] / volume;
         const auto t =
-            body_sums<9>(b, dec, near, [&](auto& t, real p, const Int3& q, const Real3& x) {
+            body_sums<9>(b, dec, near, [&](auto& acc, real p, const Int3& q, const Real3& x) {
                 const Real3 v = velocity(q);
                 Real3 r, w;
                 for (int a = 0; a < 3; ++a) {
                     r[a] = x[a] - m.centre[a];
                     w[a] = v[a] - m.velocity[a];
                 }
-                add_inertia(t, p, r);
+                add_inertia(acc, p, r);
                 const Real3 l = cross(r, w);
                 for (int a = 0; a < 3; ++a)
-                    t[6 + a] += p * l[a];
+                    acc[6 + a] += p * l[a];
             });
         m.spin = solve_spin(t.data(), {t[6], t[7], t[8]}, dec.grid().dim);
     } catch (const RunError& e) {
@@ -126,8 +122,8 @@ std::size_t spread_rigid_load(const Body& b, const RigidLoad& load, const Decomp
     const LocalBlock& blk = dec.block();
     const auto [c, volume] = centroid(b, dec, load.point);
     const auto t =
-        body_sums<6>(b, dec, load.point, [&](auto& t, real p, const Int3&, const Real3& x) {
-            add_inertia(t, p, {x[0] - c[0], x[1] - c[1], x[2] - c[2]});
+        body_sums<6>(b, dec, load.point, [&](auto& acc, real p, const Int3&, const Real3& x) {
+            add_inertia(acc, p, {x[0] - c[0], x[1] - c[1], x[2] - c[2]});
         });
     // The torque about the centroid; sums of phi are per cell, so V and I carry dV.
     const real dV = g.cell_volume();

@@ -1,5 +1,5 @@
-// Small 3x3 algebra on Matrix3 (core/types.hpp): product with a vector, transpose, inverse
-// and determinant by cofactors. Written out (no Eigen) so that every sum keeps the order
+// Small 3x3 algebra on Matrix3 (core/types.hpp): cross product, product with a vector, transpose,
+// inverse and determinant by cofactors. Written out (no Eigen) so that every sum keeps the order
 // the results were verified with (docs/method.md, "Small tensors").
 #pragma once
 
@@ -18,6 +18,11 @@ inline Real3 mat_vec(const Matrix3& M, const Real3& x) {
         for (int b = 0; b < 3; ++b)
             y[a] += M[a][b] * x[b];
     return y;
+}
+
+/// a x b.
+inline Real3 cross(const Real3& a, const Real3& b) {
+    return {a[1] * b[2] - a[2] * b[1], a[2] * b[0] - a[0] * b[2], a[0] * b[1] - a[1] * b[0]};
 }
 
 inline Matrix3 transpose(const Matrix3& M) {

@@ -4,6 +4,7 @@
 // (bodies/rigid_fit.hpp; docs/method.md, "Receptors move with the platelet").
 #pragma once
 
+#include "core/matrix3.hpp"
 #include "core/types.hpp"
 
 #include <cmath>
@@ -26,8 +27,7 @@ struct RigidMotion {
             const Real3 k{spin[0] / w, spin[1] / w, spin[2] / w};
             const real c = std::cos(w * dt), s = std::sin(w * dt);
             const real kr = k[0] * r[0] + k[1] * r[1] + k[2] * r[2];
-            const Real3 kxr{k[1] * r[2] - k[2] * r[1], k[2] * r[0] - k[0] * r[2],
-                            k[0] * r[1] - k[1] * r[0]};
+            const Real3 kxr = cross(k, r);
             for (int a = 0; a < 3; ++a)
                 rr[a] = r[a] * c + kxr[a] * s + k[a] * kr * (1 - c);
         }

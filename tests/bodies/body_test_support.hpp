@@ -27,6 +27,22 @@ end_time = 1.0
 )";
 }
 
+/// A 24 x 20 x 16 periodic 3D grid (h = 0.05) followed by `body` (TOML text).
+inline std::string grid_3d(const std::string& body) {
+    return R"(
+[grid]
+cells = [24, 20, 16]
+length = [1.2, 1.0, 0.8]
+
+[fluid]
+density = 2.0
+viscosity = 0.1
+
+[time]
+end_time = 1.0
+)" + body;
+}
+
 /// A run's bodies on this rank count: the decomposition, halos and BodySystem of `toml`.
 struct Bodies {
     Config cfg;

@@ -5,6 +5,7 @@
 // steps and turns a point by the exact angle.
 #include "bodies/body_test_support.hpp"
 #include "bodies/rigid_fit.hpp"
+#include "core/matrix3.hpp"
 
 #include <cmath>
 #include <numbers>
@@ -13,21 +14,6 @@ using namespace efsi;
 using namespace efsi::test;
 
 namespace {
-
-std::string grid_3d(const std::string& body) {
-    return R"(
-[grid]
-cells = [24, 20, 16]
-length = [1.2, 1.0, 0.8]
-
-[fluid]
-density = 2.0
-viscosity = 0.1
-
-[time]
-end_time = 1.0
-)" + body;
-}
 
 /// u_c = f(c, x) on every face of the block, halos filled.
 template <class F>
@@ -40,10 +26,6 @@ VelocityField velocity_from(Bodies& s, F&& f) {
         });
     s.halos.fill(u);
     return u;
-}
-
-Real3 cross(const Real3& a, const Real3& b) {
-    return {a[1] * b[2] - a[2] * b[1], a[2] * b[0] - a[0] * b[2], a[0] * b[1] - a[1] * b[0]};
 }
 
 real distance(const Real3& a, const Real3& b) {
