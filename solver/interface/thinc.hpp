@@ -15,7 +15,7 @@
 // n the unit normal pointing into the body (up grad phi), d fixed by the cell average.
 // As in Ii et al., volume integrals of H are taken exactly along the direction m of the
 // largest |n_m| (where H has a closed-form primitive: ln cosh up to a linear term, written
-// here as ln(1 + e^{2z})/2 so that a Newton iteration costs one exp and one log, see
+// here as ln(1 + e^{2z})/2 so that an iteration for d costs one exp and one log, see
 // MthincBoxRule) and by Gauss-Legendre quadrature (2 points) in the other directions; the
 // same rule defines d and the fluxes, so a flux never exceeds what the reconstruction puts
 // in the cell. We keep the linear (planar) level n . X; Ii et al. also add a quadratic
@@ -71,7 +71,7 @@ struct Mthinc {
     int dim = 3;
 };
 
-/// Largest MTHINC beta the closed form below takes. Over the Newton bracket
+/// Largest MTHINC beta the closed form below takes. Over the bracket of the iteration for d
 /// |d| <= sqrt(dim)/2 + 20/beta, so |z_q| <= beta (sqrt(3)/2 + 1/2 + 1/3) + 20: at
 /// beta = 50, x_q <= e^{210}, (x_q + 1)(x_q + G) <= e^{420} and the product of the ratios
 /// <= G^4 <= e^{400}, so nothing overflows. Such a beta already makes H a step (jump
@@ -88,44 +88,49 @@ inline constexpr real mthinc_beta_max = 50;
 /// (z_q the argument at the low end of the line), and its derivative with respect to d is
 ///     (H(z_hi) - H(z_lo)) / n_m = x_q (G - 1) / ((x_q + 1)(x_q + G) n_m).
 /// x_q = e^{-2 beta (n_m lo_m + d)} F_q with F_q = e^{-2 beta t_q} fixed by the box, so
-/// an evaluation at a new d (a Newton iteration) takes one exp for all the Gauss points,
+/// an evaluation at a new d (an iteration) takes one exp for all the Gauss points,
 /// and their sum of logarithms is the log of one product: one exp and one log, where the
 /// sum of ln cosh differences took 2^dim exp and 2^dim log1p (and as many tanh for the
-/// slope). Nothing overflows for beta <= mthinc_beta_max (see there), and the absolute
+/// slope). F_q is a product over the transverse directions of e^{-2 beta n_e X_e}, so a
+/// box that spans the cell in one of them shares that direction's factors with the cell.
+/// Nothing overflows for beta <= mthinc_beta_max (see there), and the absolute
 /// round-off of a ratio (1e-16, ratios between 1 and G) is that of phi itself.
 class MthincBoxRule {
   public:
     /// The rule of r's normal over [lo, hi]. `cell` (optional) is the rule of the same
-    /// normal over the whole cell: its F_q are reused when the box spans the cell in the
-    /// transverse directions, its G when the box spans it along m (same values: the
+    /// normal over the whole cell: its Gauss-point factors are reused in each transverse
+    /// direction the box spans, its G when the box spans it along m (same values: the
     /// same expressions of the same numbers).
     MthincBoxRule(const Mthinc& r, const Real3& lo, const Real3& hi,
                   const MthincBoxRule* cell = nullptr)
         : beta_(r.beta), nm_(r.n[r.m]) {
         constexpr real g = 0.5773502691896257645; // 1/sqrt(3): Gauss points at +-g on [-1, 1]
-        int others[2] = {0, 0};
-        int no = 0;
-        bool whole_transverse = true;
         real weight = 1; // Gauss weights 1 times the transverse half-lengths
-        for (int e = 0; e < r.dim; ++e)
-            if (e != r.m) {
-                others[no++] = e;
-                weight *= 0.5 * (hi[e] - lo[e]);
-                whole_transverse = whole_transverse && lo[e] == -0.5 && hi[e] == 0.5;
+        int no = 0;
+        for (int e = 0; e < r.dim; ++e) {
+            if (e == r.m) continue;
+            const int a = no++;
+            weight *= 0.5 * (hi[e] - lo[e]);
+            if (cell && lo[e] == -0.5 && hi[e] == 0.5) {
+                pair_[a][0] = cell->pair_[a][0];
+                pair_[a][1] = cell->pair_[a][1];
+                continue;
             }
+            // e^{-2 beta n_e X_e} at the two Gauss points X_e = mid -+ g half, as M / Q and
+            // M Q: one exp for a direction centred in the cell (M = 1), two otherwise.
+            const real mid = 0.5 * (lo[e] + hi[e]), half = 0.5 * (hi[e] - lo[e]);
+            const real m = mid == 0 ? 1 : std::exp(-2 * beta_ * r.n[e] * mid);
+            const real q = std::exp(-2 * beta_ * r.n[e] * g * half);
+            pair_[a][0] = m / q;
+            pair_[a][1] = m * q;
+        }
         nq_ = 1 << no;
-        if (cell && whole_transverse)
-            std::copy(cell->factor_, cell->factor_ + nq_, factor_);
-        else
-            for (int q = 0; q < nq_; ++q) {
-                real t = 0;
-                for (int a = 0; a < no; ++a) {
-                    const int e = others[a];
-                    const real mid = 0.5 * (lo[e] + hi[e]), half = 0.5 * (hi[e] - lo[e]);
-                    t += r.n[e] * (mid + ((q >> a) & 1 ? g : -g) * half);
-                }
-                factor_[q] = std::exp(-2 * beta_ * t);
-            }
+        for (int q = 0; q < nq_; ++q) {
+            real f = 1;
+            for (int a = 0; a < no; ++a)
+                f *= pair_[a][(q >> a) & 1];
+            factor_[q] = f;
+        }
         low_ = nm_ * lo[r.m];
         growth_ = cell && lo[r.m] == -0.5 && hi[r.m] == 0.5
                       ? cell->growth_
@@ -134,24 +139,28 @@ class MthincBoxRule {
         slope_scale_ = weight * (growth_ - 1) / nm_;
     }
 
-    /// int_box H at level offset d; `dd` (if given) receives its derivative in d.
-    real integral(real d, real* dd = nullptr) const {
+    /// int_box H at level offset d; `dd` (if given) receives its derivative in d and `d2`
+    /// (if given) its second derivative, (x_q (G - x_q^2) / ((x_q + 1)(x_q + G))^2) summed,
+    /// times -2 beta (G - 1) weight / n_m.
+    real integral(real d, real* dd = nullptr, real* d2 = nullptr) const {
         const real e = std::exp(-2 * beta_ * (low_ + d));
-        real ratio = 1, slope = 0;
+        real ratio = 1, slope = 0, bend = 0;
         for (int q = 0; q < nq_; ++q) {
             const real x = e * factor_[q], xl = x + 1, xh = x + growth_;
-            const real inv = 1 / (xl * xh); // one division for the ratio and the slope
+            const real inv = 1 / (xl * xh); // one division for the ratio and the slopes
             ratio *= xh * xh * inv;
             slope += x * inv;
+            bend += x * (growth_ - x * x) * inv * inv;
         }
         if (dd) *dd = slope_scale_ * slope;
+        if (d2) *d2 = -2 * beta_ * slope_scale_ * bend;
         return scale_ * std::log(ratio);
     }
 
     /// The level offset d of the cell's 1D profile along m alone (transverse components of
     /// n left out) with cell average phi: for the whole cell (lo_m = -1/2, one Gauss point)
     /// ln[(x + G)/(x + 1)] = 2 beta n_m phi gives x = (G - P)/(P - 1), P = e^{2 beta n_m phi}.
-    /// Newton's starting point (the closed form tanh(beta d) = tanh(beta n_m (phi - 1/2)) /
+    /// The iteration's starting point (the closed form tanh(beta d) = tanh(beta n_m (phi - 1/2)) /
     /// tanh(beta n_m / 2) in other terms). Only for a rule over the whole cell.
     real profile_level(real phi) const {
         const real p = std::exp(2 * beta_ * nm_ * phi);
@@ -165,7 +174,8 @@ class MthincBoxRule {
     real growth_ = 1;      ///< G
     real scale_ = 1;       ///< weight / (2 beta n_m)
     real slope_scale_ = 1; ///< weight (G - 1) / n_m
-    real factor_[4] = {1, 1, 1, 1}; ///< F_q
+    real factor_[4] = {1, 1, 1, 1};      ///< F_q
+    real pair_[2][2] = {{1, 1}, {1, 1}}; ///< e^{-2 beta n_e X_e} at the Gauss points, per direction
     int nq_ = 1;
 };
 
@@ -195,24 +205,38 @@ inline Mthinc mthinc_normal(const Real3& grad, real beta, int dim) {
 }
 
 /// The level offset d with int_cell H = phi in (0, 1), `cell` the rule of r's normal over
-/// the whole cell: Newton's method safeguarded by bisection (the integral increases
-/// monotonically with d), each iteration one evaluation of the rule.
+/// the whole cell: Halley's method (third order; the rule gives the second derivative at
+/// no extra exp or log) safeguarded by bisection (the integral increases monotonically with
+/// d), each iteration one evaluation of the rule. Once the residual is below 1e-6 of
+/// min(phi, 1 - phi), one more step leaves it at round-off (cubic convergence), so the
+/// iteration stops after that step without evaluating again.
 inline real mthinc_level(const Mthinc& r, const MthincBoxRule& cell, real phi) {
     // |n.X| <= sqrt(dim)/2 in the cell; 20/beta more makes tanh = +-1 to round-off.
     real a = -std::sqrt(real(r.dim)) / 2 - 20 / r.beta, b = -a;
-    // Start from the 1D profile along m (MthincBoxRule::profile_level); Newton then needs a
-    // few iterations, not ~10. A start lost to round-off (P = 1 or G) is NaN or infinite.
+    // Start from the 1D profile along m (MthincBoxRule::profile_level); the iteration then
+    // needs two or three evaluations. A start lost to round-off (P = 1 or G) is NaN or
+    // infinite.
     const real start = cell.profile_level(phi);
+    const real close = 1e-6 * std::min(phi, 1 - phi);
     real d = std::isnan(start) ? 0 : std::clamp(start, a, b);
     for (int it = 0; it < 100; ++it) {
-        real slope = 0;
-        const real f = cell.integral(d, &slope) - phi;
+        real slope = 0, bend = 0;
+        const real f = cell.integral(d, &slope, &bend) - phi;
         if (std::abs(f) < 1e-15) break;
         (f > 0 ? b : a) = d;
-        real next = slope > 0 ? d - f / slope : 0.5 * (a + b);
-        if (!(next > a && next < b)) next = 0.5 * (a + b);
+        real next = 0.5 * (a + b);
+        bool halley = false;
+        if (slope > 0) {
+            // Halley: d - (f / f') / (1 - f f'' / (2 f'^2)); Newton where that factor is
+            // far from 1 (far from the root).
+            const real step = f / slope, factor = 1 - 0.5 * step * bend / slope;
+            const real tried = d - (factor > 0.5 ? step / factor : step);
+            halley = tried > a && tried < b;
+            if (halley) next = tried;
+        }
         if (b - a < 1e-15) break;
         d = next;
+        if (halley && std::abs(f) < close) break;
     }
     return d;
 }
