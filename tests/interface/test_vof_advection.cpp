@@ -8,6 +8,8 @@
 
 #include <gtest/gtest.h>
 
+#include <random>
+
 #include <cmath>
 #include <numbers>
 
@@ -55,6 +57,28 @@ TEST(Thinc, MultidimensionalReconstructionHoldsTheCellAverage) {
                     mthinc_box_integral(r, r.n[r.m] > 0 ? mid_hi : lo, r.n[r.m] > 0 ? hi : mid_lo);
                 EXPECT_GT(up, 0.5 * phi);
             }
+}
+
+// The level iteration stops one Halley step after a residual below 1e-6 of
+// min(phi, 1 - phi) (thinc.hpp, mthinc_level): the cubic convergence must leave the cell
+// average at round-off, in the tails too, for every beta the schemes take.
+TEST(Thinc, LevelIterationEndsAtRoundOff) {
+    std::mt19937_64 gen(7);
+    std::uniform_real_distribution<real> uni(0, 1);
+    std::normal_distribution<real> normal;
+    for (int dim : {2, 3})
+        for (real beta : {0.5, 1.0, 2.0, 4.0, 50.0}) {
+            real worst = 0;
+            for (int s = 0; s < 20000; ++s) {
+                real phi = s % 2 ? std::pow(10.0, -8 * uni(gen)) : 1e-8 + (1 - 2e-8) * uni(gen);
+                if (s % 4 == 1) phi = 1 - phi;
+                const Real3 grad{normal(gen), normal(gen), dim == 3 ? normal(gen) : 0.0};
+                const Mthinc r = mthinc_reconstruct(phi, grad, beta, dim);
+                const real got = mthinc_box_integral(r, {-0.5, -0.5, -0.5}, {0.5, 0.5, 0.5});
+                worst = std::max(worst, std::abs(got - phi));
+            }
+            EXPECT_LT(worst, 2e-15) << "dim " << dim << " beta " << beta;
+        }
 }
 
 namespace {
