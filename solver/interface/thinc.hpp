@@ -25,7 +25,9 @@
 #include "core/types.hpp"
 
 #include <algorithm>
+#include <bit>
 #include <cmath>
+#include <cstdint>
 #include <numbers>
 
 namespace efsi {
@@ -97,6 +99,7 @@ inline constexpr real mthinc_beta_max = 50;
 /// round-off of a ratio (1e-16, ratios between 1 and G) is that of phi itself.
 class MthincBoxRule {
   public:
+    MthincBoxRule() = default;
     /// The rule of r's normal over [lo, hi]. `cell` (optional) is the rule of the same
     /// normal over the whole cell: its Gauss-point factors are reused in each transverse
     /// direction the box spans, its G when the box spans it along m (same values: the
@@ -204,41 +207,84 @@ inline Mthinc mthinc_normal(const Real3& grad, real beta, int dim) {
     return r;
 }
 
-/// The level offset d with int_cell H = phi in (0, 1), `cell` the rule of r's normal over
-/// the whole cell: Halley's method (third order; the rule gives the second derivative at
-/// no extra exp or log) safeguarded by bisection (the integral increases monotonically with
-/// d), each iteration one evaluation of the rule. Once the residual is below 1e-6 of
-/// min(phi, 1 - phi), one more step leaves it at round-off (cubic convergence), so the
-/// iteration stops after that step without evaluating again.
-inline real mthinc_level(const Mthinc& r, const MthincBoxRule& cell, real phi) {
-    // |n.X| <= sqrt(dim)/2 in the cell; 20/beta more makes tanh = +-1 to round-off.
-    real a = -std::sqrt(real(r.dim)) / 2 - 20 / r.beta, b = -a;
-    // Start from the 1D profile along m (MthincBoxRule::profile_level); the iteration then
-    // needs two or three evaluations. A start lost to round-off (P = 1 or G) is NaN or
-    // infinite.
-    const real start = cell.profile_level(phi);
-    const real close = 1e-6 * std::min(phi, 1 - phi);
-    real d = std::isnan(start) ? 0 : std::clamp(start, a, b);
-    for (int it = 0; it < 100; ++it) {
-        real slope = 0, bend = 0;
-        const real f = cell.integral(d, &slope, &bend) - phi;
-        if (std::abs(f) < 1e-15) break;
-        (f > 0 ? b : a) = d;
-        real next = 0.5 * (a + b);
-        bool halley = false;
-        if (slope > 0) {
-            // Halley: d - (f / f') / (1 - f f'' / (2 f'^2)); Newton where that factor is
-            // far from 1 (far from the root).
-            const real step = f / slope, factor = 1 - 0.5 * step * bend / slope;
-            const real tried = d - (factor > 0.5 ? step / factor : step);
-            halley = tried > a && tried < b;
-            if (halley) next = tried;
-        }
-        if (b - a < 1e-15) break;
-        d = next;
-        if (halley && std::abs(f) < close) break;
+/// The iteration for the level offset d of one cell (int_cell H = phi in (0, 1), `cell`
+/// the rule of r's normal over the whole cell): Halley's method (third order; the rule
+/// gives the second derivative at no extra exp or log) on a bracket [a, b] that each
+/// evaluation narrows (the integral increases monotonically with d), a step leaving the
+/// bracket replaced by bisection. It starts from the 1D profile along m
+/// (MthincBoxRule::profile_level) and takes mthinc_level_steps steps with no test in
+/// between, so that the steps of several cells interleave (mthinc_slab_integrals) with no
+/// branch the processor could mispredict. When the residual of the last of them is below
+/// 1e-6 of min(phi, 1 - phi), that step left it at round-off (cubic convergence); else
+/// `finish` goes on, testing after each step, to a residual of 1e-15 or a bracket of that
+/// width.
+struct MthincLevel {
+    real a = 0, b = 0; ///< bracket
+    real d = 0;        ///< current level
+    real phi = 0;
+    real close = 0;      ///< 1e-6 min(phi, 1 - phi)
+    real f = 1;          ///< residual at the last evaluation
+    bool halley = false; ///< the last step was Halley's (or Newton's), not a bisection
+
+    void start(const Mthinc& r, const MthincBoxRule& cell, real phi_) {
+        phi = phi_;
+        // |n.X| <= sqrt(dim)/2 in the cell; 20/beta more makes tanh = +-1 to round-off.
+        a = -std::sqrt(real(r.dim)) / 2 - 20 / r.beta;
+        b = -a;
+        close = 1e-6 * std::min(phi, 1 - phi);
+        // A start lost to round-off (P = 1 or G) is NaN or infinite.
+        const real s = cell.profile_level(phi);
+        d = std::isnan(s) ? 0 : std::clamp(s, a, b);
     }
-    return d;
+
+    /// One evaluation and one step, written with selects only. A step that lands on the
+    /// bracket's end is kept (at a root, f = 0, the step is zero and d stays); one outside
+    /// it (or not a number: a zero slope) is a bisection.
+    void step(const MthincBoxRule& cell) {
+        real slope = 0, bend = 0;
+        f = cell.integral(d, &slope, &bend) - phi;
+        const bool above = f > 0;
+        b = pick(above, d, b);
+        a = pick(above, a, d);
+        // Halley: d - f f' / (f'^2 - f f'' / 2), one division; Newton (d - f f' / f'^2)
+        // where the correction is more than half of f'^2 (far from the root).
+        const real s2 = slope * slope, halley_den = s2 - 0.5 * f * bend;
+        const real tried = d - f * slope / pick(halley_den > 0.5 * s2, halley_den, s2);
+        halley = (tried >= a) & (tried <= b);
+        d = pick(halley, tried, 0.5 * (a + b));
+    }
+
+    /// `yes ? x : y` by bit masks: the compiler turns a plain conditional into a branch,
+    /// which here goes either way at random and costs a pipeline flush when mispredicted.
+    static real pick(bool yes, real x, real y) {
+        const std::uint64_t mask = -std::uint64_t(yes);
+        return std::bit_cast<real>((std::bit_cast<std::uint64_t>(x) & mask) |
+                                   (std::bit_cast<std::uint64_t>(y) & ~mask));
+    }
+
+    bool converged() const { return halley && std::abs(f) < close; }
+
+    void finish(const MthincBoxRule& cell) {
+        for (int it = 0; it < 100 && !converged(); ++it) {
+            if (std::abs(f) < 1e-15 || b - a < 1e-15) return;
+            step(cell);
+        }
+    }
+};
+
+/// Steps MthincLevel takes before it tests: from the profile's start two or three reach
+/// round-off at the betas the schemes use (a smoothed body's 1/smoothing_width, the sharp
+/// default 2), so three make the test pass almost always.
+inline constexpr int mthinc_level_steps = 3;
+
+/// The level offset d with int_cell H = phi in (0, 1) (MthincLevel).
+inline real mthinc_level(const Mthinc& r, const MthincBoxRule& cell, real phi) {
+    MthincLevel l;
+    l.start(r, cell, phi);
+    for (int it = 0; it < mthinc_level_steps; ++it)
+        l.step(cell);
+    if (!l.converged()) l.finish(cell);
+    return l.d;
 }
 
 /// Reconstruction of a cell with average phi in (0, 1) and normal direction `grad`
@@ -264,6 +310,45 @@ inline real mthinc_slab_integral(real phi, const Real3& grad, real beta, int dim
     else
         hi[d] = -0.5 + a;
     return MthincBoxRule(r, lo, hi, &cell).integral(r.d);
+}
+
+/// The slab integrals of n faces along direction d, one per cell: out[f] =
+/// mthinc_slab_integral(phi[f], grad[f], beta, dim, d, |c|, c > 0) with c = courant[f],
+/// bit for bit (the same operations in
+/// the same order for each face), the cells taken four at a time with their steps
+/// interleaved: one cell's iteration is a chain of dependent exp, log and divisions,
+/// and four independent chains keep the processor busy where one leaves it waiting.
+inline void mthinc_slab_integrals(int n, const real* phi, const Real3* grad, real beta, int dim,
+                                  int d, const real* courant, real* out) {
+    constexpr int L = 4;
+    for (int f0 = 0; f0 < n; f0 += L) {
+        const int nl = std::min(L, n - f0);
+        Mthinc r[L];
+        MthincBoxRule cell[L];
+        MthincLevel level[L];
+        for (int l = 0; l < nl; ++l) {
+            r[l] = mthinc_normal(grad[f0 + l], beta, dim);
+            cell[l] = MthincBoxRule(r[l], {-0.5, -0.5, -0.5}, {0.5, 0.5, 0.5});
+        }
+        for (int l = 0; l < nl; ++l)
+            level[l].start(r[l], cell[l], phi[f0 + l]);
+        for (int it = 0; it < mthinc_level_steps; ++it)
+            for (int l = 0; l < nl; ++l)
+                level[l].step(cell[l]);
+        for (int l = 0; l < nl; ++l) {
+            if (!level[l].converged()) level[l].finish(cell[l]);
+            r[l].d = level[l].d;
+        }
+        for (int l = 0; l < nl; ++l) {
+            Real3 lo{-0.5, -0.5, -0.5}, hi{0.5, 0.5, 0.5};
+            const real c = courant[f0 + l];
+            if (c > 0)
+                lo[d] = 0.5 - std::abs(c);
+            else
+                hi[d] = -0.5 + std::abs(c);
+            out[f0 + l] = MthincBoxRule(r[l], lo, hi, &cell[l]).integral(r[l].d);
+        }
+    }
 }
 
 } // namespace efsi

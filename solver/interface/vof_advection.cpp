@@ -160,10 +160,19 @@ void VofAdvection::sweep_rows(Field& phi, const VelocityField& u, real dt, int d
     real max_courant = local.max_courant;
     Box rows = cells;
     rows.hi[d] = rows.lo[d] + 1;
+    MthincFaces& mf = row_faces_;
+    if (mf.face.size() < std::size_t(n + 1)) {
+        mf.face.resize(n + 1);
+        mf.phi.resize(n + 1);
+        mf.courant.resize(n + 1);
+        mf.integral.resize(n + 1);
+        mf.grad.resize(n + 1);
+    }
     for_each_in(rows, [&](int i, int j, int k) {
         const real* ph = phi0 + phi.index(i, j, k);
         const real* uf = u0 + ud.index(i, j, k);
         real* fl = flux0 + flux_.index(i, j, k);
+        int nm = 0; // MTHINC faces of the row, gathered for one batched call
         for (int m = 0; m <= n; ++m) {
             const real c = uf[m * su] * r;
             max_courant = std::max(max_courant, std::abs(c));
@@ -200,13 +209,21 @@ void VofAdvection::sweep_rows(Field& phi, const VelocityField& u, real dt, int d
                     if (g2 < 1e-24)
                         G = c * f;
                     else {
-                        const real v = mthinc_slab_integral(f, grad, opt_.beta_mthinc, dim, d,
-                                                            std::abs(c), positive);
-                        G = positive ? v : -v;
+                        mf.face[nm] = m;
+                        mf.phi[nm] = f;
+                        mf.courant[nm] = c;
+                        mf.grad[nm] = grad;
+                        ++nm;
                     }
                 }
             }
             fl[m * sp] = G;
+        }
+        mthinc_slab_integrals(nm, mf.phi.data(), mf.grad.data(), opt_.beta_mthinc, dim, d,
+                              mf.courant.data(), mf.integral.data());
+        for (int q = 0; q < nm; ++q) {
+            const real v = mf.integral[q];
+            fl[mf.face[q] * sp] = mf.courant[q] > 0 ? v : -v;
         }
     });
     local.max_courant = max_courant;

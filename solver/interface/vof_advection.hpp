@@ -28,6 +28,7 @@
 
 #include <cstdint>
 #include <string>
+#include <vector>
 
 namespace efsi {
 
@@ -102,6 +103,13 @@ class VofAdvection {
     VofOptions opt_;
     Field chi_;  ///< Weymouth-Yue indicator of phi^n
     Field flux_; ///< G on the low d-faces of the current sweep
+    /// The MTHINC faces of one row, gathered for mthinc_slab_integrals: the face index
+    /// along the row, the upwind phi, its gradient, the Courant number, the slab integral.
+    struct MthincFaces {
+        std::vector<int> face;
+        std::vector<real> phi, courant, integral;
+        std::vector<Real3> grad;
+    } row_faces_;
 };
 
 /// sum phi dV over the owned cells, reduced over ranks.

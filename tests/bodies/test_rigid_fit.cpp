@@ -188,7 +188,9 @@ radius = 0.15
         for_each_in(f[comp].owned(), [&](int i, int j, int k) {
             const real v = f[comp](i, j, k) * g.cell_volume();
             if (v == 0) return;
-            if (comp == 1) EXPECT_GT(j + s.dec.block().offset[1], 0) << "a wall face written";
+            if (comp == 1) {
+                EXPECT_GT(j + s.dec.block().offset[1], 0) << "a wall face written";
+            }
             const Real3 x = position(g, s.dec.block(), face_location(comp), i, j, k);
             Real3 F{0, 0, 0};
             F[comp] = v;
