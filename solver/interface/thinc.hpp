@@ -295,23 +295,6 @@ inline Mthinc mthinc_reconstruct(real phi, const Real3& grad, real beta, int dim
     return r;
 }
 
-/// The flux of one face in one call: mthinc_reconstruct(phi, grad, beta, dim) followed by
-/// mthinc_box_integral over the slab of width `a` at the high (`positive`) or low end of
-/// the cell along d, bit for bit the same value, the slab's rule reusing the cell's F_q
-/// (d = m) or G (d != m).
-inline real mthinc_slab_integral(real phi, const Real3& grad, real beta, int dim, int d, real a,
-                                 bool positive) {
-    Mthinc r = mthinc_normal(grad, beta, dim);
-    const MthincBoxRule cell(r, {-0.5, -0.5, -0.5}, {0.5, 0.5, 0.5});
-    r.d = mthinc_level(r, cell, phi);
-    Real3 lo{-0.5, -0.5, -0.5}, hi{0.5, 0.5, 0.5};
-    if (positive)
-        lo[d] = 0.5 - a;
-    else
-        hi[d] = -0.5 + a;
-    return MthincBoxRule(r, lo, hi, &cell).integral(r.d);
-}
-
 /// The slab integrals of n faces along direction d, one per cell: out[f] =
 /// mthinc_slab_integral(phi[f], grad[f], beta, dim, d, |c|, c > 0) with c = courant[f],
 /// bit for bit (the same operations in
@@ -349,6 +332,18 @@ inline void mthinc_slab_integrals(int n, const real* phi, const Real3* grad, rea
             out[f0 + l] = MthincBoxRule(r[l], lo, hi, &cell[l]).integral(r[l].d);
         }
     }
+}
+
+/// The flux of one face in one call: mthinc_reconstruct(phi, grad, beta, dim) followed by
+/// mthinc_box_integral over the slab of width `a` at the high (`positive`) or low end of
+/// the cell along d, bit for bit the same value, the slab's rule reusing the cell's
+/// Gauss-point factors (d = m) or G (d != m): mthinc_slab_integrals for one face.
+inline real mthinc_slab_integral(real phi, const Real3& grad, real beta, int dim, int d, real a,
+                                 bool positive) {
+    const real c = positive ? a : -a;
+    real v = 0;
+    mthinc_slab_integrals(1, &phi, &grad, beta, dim, d, &c, &v);
+    return v;
 }
 
 } // namespace efsi
