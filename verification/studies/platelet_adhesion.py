@@ -40,6 +40,10 @@ short run (h = 0.5 um, 0.5 ms, 500 1/s); quick: h = 0.25 um, 1 ms at 250, 500 an
 1000 1/s. Published translocation velocities (Doggett et al. 2002, Mody & King 2008) could
 not be consulted for this study: no comparison with measurements is made (notes).
 
+Then the paper's Fig. 5 scene (cases/platelet_adhesion_rbc), quick and full tiers: seeds
+with red cells and without, outcome per seed (`adhered_fraction_with_rbc`, ...); the full
+tier runs the five seeds with rigid receptors too (metrics suffixed `_rigid`).
+
 Seeds are fixed, so each tier's numbers are reproducible on any machine.
 """
 import json
@@ -268,9 +272,11 @@ def shear_runs(ctx, metrics, tables, notes):
 # patch in channel flow, with red cells (the case's Ht 20 % target) and without (target 0),
 # over several seeds (the seeding's and the kinetics'). No ci tier: a red-cell run costs
 # ~0.07 s per 1 us step on one core.
+# receptor motions run per tier: the default ("flow") and, in the full tier, receptors
+# carried by the platelet's fitted rigid motion (metrics suffixed _rigid)
 FIG5 = {
-    "quick": dict(seeds=[1, 2], end_time=2.0e-3),
-    "full": dict(seeds=[1, 2, 3, 4, 5], end_time=1.0e-2),
+    "quick": dict(seeds=[1, 2], end_time=2.0e-3, motions=("flow",)),
+    "full": dict(seeds=[1, 2, 3, 4, 5], end_time=1.0e-2, motions=("flow", "rigid")),
 }
 FIG5_CASE = "cases/platelet_adhesion_rbc/case.toml"
 FIG5_HT = 0.2
@@ -356,11 +362,13 @@ def fig5_scene(ctx, metrics, tables, notes):
     if cfg is None:
         notes.append("Fig. 5 scene (cases/platelet_adhesion_rbc): quick and full tiers only.")
         return None
-    runs = {k: [fig5_run(ctx, k, s, cfg["end_time"]) for s in cfg["seeds"]]
-            for k in ("rbc", "free")}
+    every = {m: {k: [fig5_run(ctx, k, s, cfg["end_time"], motion=m) for s in cfg["seeds"]]
+                 for k in ("rbc", "free")} for m in cfg["motions"]}
+    runs = every["flow"]
     rows = []
-    for kind, rs in runs.items():
-        tag = "with_rbc" if kind == "rbc" else "without_rbc"
+    for motion, kind, rs in ((m, k, rs) for m, by in every.items() for k, rs in by.items()):
+        tag = ("with_rbc" if kind == "rbc" else "without_rbc") + (
+            "" if motion == "flow" else f"_{motion}")
         metrics[f"adhered_fraction_{tag}"] = float(np.mean([r["adhered"] for r in rs]))
         metrics[f"fig5_time_bound_fraction_{tag}"] = float(
             np.mean([r["time_bound"] for r in rs]) / cfg["end_time"])
@@ -373,7 +381,8 @@ def fig5_scene(ctx, metrics, tables, notes):
                                                                  for r in rs]))
         for r in rs:
             a = r["summary"].get("adhesion", {})
-            rows.append({"scene": tag, "seed": int(r["key"].split("_s")[1].split("_")[0]),
+            rows.append({"scene": tag, "receptor_motion": motion,
+                         "seed": int(r["key"].split("_s")[1].split("_")[0]),
                          "red_cells": int(r["seeding"].get("placed", {}).get("rbc", 0)),
                          "haematocrit": r["seeding"].get("achieved_haematocrit", 0.0),
                          "adhered": r["adhered"], "bonds_at_end": int(r["bonds"][-1]),
@@ -397,11 +406,13 @@ def fig5_scene(ctx, metrics, tables, notes):
     tables["fig5_scene"] = rows
 
     fig, axes = plt.subplots(1, 3, figsize=(16, 4.2))
-    for kind, colour in (("rbc", "tab:red"), ("free", "tab:blue")):
-        for i, r in enumerate(runs[kind]):
-            lab = ("with red cells" if kind == "rbc" else "without red cells") if i == 0 else None
-            axes[0].plot(r["tb"] * 1e3, r["y"] * 1e6, "-", color=colour, lw=1, label=lab)
-            axes[1].plot(r["t"] * 1e3, r["bonds"], "-", color=colour, lw=1, label=lab)
+    for motion, style in (("flow", "-"), ("rigid", "--")):
+        for kind, colour in (("rbc", "tab:red"), ("free", "tab:blue")):
+            for i, r in enumerate(every.get(motion, {}).get(kind, [])):
+                lab = (("with red cells" if kind == "rbc" else "without red cells")
+                       + ("" if motion == "flow" else ", rigid receptors")) if i == 0 else None
+                axes[0].plot(r["tb"] * 1e3, r["y"] * 1e6, style, color=colour, lw=1, label=lab)
+                axes[1].plot(r["t"] * 1e3, r["bonds"], style, color=colour, lw=1, label=lab)
     axes[0].set(xlabel="t [ms]", ylabel="platelet centroid y [um]",
                 title="platelet height above the vWF wall (start 0.7 um)")
     axes[1].set(xlabel="t [ms]", ylabel="bonds", title="GPIb-alpha / vWF bonds")
@@ -445,7 +456,8 @@ def fig5_scene(ctx, metrics, tables, notes):
     notes.append(
         f"Fig. 5 scene (cases/platelet_adhesion_rbc, its README gives every parameter): "
         f"seeds {cfg['seeds']}, {cfg['end_time'] * 1e3:g} ms each, with red cells (target Ht "
-        f"{FIG5_HT:g}) and without. 'Adhered' = the platelet holds at least one bond at the "
+        f"{FIG5_HT:g}) and without, receptor motions {list(cfg['motions'])} (metrics of "
+        "'rigid' suffixed _rigid; dashed in the figure). 'Adhered' = the platelet holds at least one bond at the "
         "end of the run; time bound = time with at least one bond; mean bonds = time average "
         "over the run. The platelet starts 100 nm above the vWF patch, 30 nm beyond the "
         "reactive distance, so a bond needs the platelet to approach the wall. Without red "
