@@ -12,35 +12,21 @@
 
 namespace efsi::test {
 
+/// The [grid], [fluid] and [time] tables of the body tests: `cells` and `length` as TOML
+/// arrays, density 2, viscosity 0.1, end time 1.
+inline std::string grid_toml(const std::string& cells, const std::string& length) {
+    return "\n[grid]\ncells = " + cells + "\nlength = " + length +
+           "\n\n[fluid]\ndensity = 2.0\nviscosity = 0.1\n\n[time]\nend_time = 1.0\n";
+}
+
+/// A 24 x 20 cell 2D grid (one cell thick in z).
 inline std::string grid_2d() {
-    return R"(
-[grid]
-cells = [24, 20, 1]
-length = [1.2, 1.0, 0.05]
-
-[fluid]
-density = 2.0
-viscosity = 0.1
-
-[time]
-end_time = 1.0
-)";
+    return grid_toml("[24, 20, 1]", "[1.2, 1.0, 0.05]");
 }
 
 /// A 24 x 20 x 16 periodic 3D grid (h = 0.05) followed by `body` (TOML text).
 inline std::string grid_3d(const std::string& body) {
-    return R"(
-[grid]
-cells = [24, 20, 16]
-length = [1.2, 1.0, 0.8]
-
-[fluid]
-density = 2.0
-viscosity = 0.1
-
-[time]
-end_time = 1.0
-)" + body;
+    return grid_toml("[24, 20, 16]", "[1.2, 1.0, 0.8]") + body;
 }
 
 /// A run's bodies on this rank count: the decomposition, halos and BodySystem of `toml`.
