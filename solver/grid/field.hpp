@@ -8,6 +8,7 @@
 // In 2D (dim == 2) there is no z halo, so k is always 0 and nothing is stored twice.
 #pragma once
 
+#include "core/large_page_allocator.hpp"
 #include "core/types.hpp"
 #include "grid/box.hpp"
 #include "grid/grid.hpp"
@@ -18,6 +19,9 @@
 #include <vector>
 
 namespace efsi {
+
+/// A field's values (huge pages where the field is large: core/large_page_allocator.hpp).
+using FieldStorage = std::vector<real, LargePageAllocator<real>>;
 
 class Field {
   public:
@@ -94,10 +98,10 @@ class Field {
     const Int3& extent() const {
         return ext_;
     }
-    std::vector<real>& data() {
+    FieldStorage& data() {
         return data_;
     }
-    const std::vector<real>& data() const {
+    const FieldStorage& data() const {
         return data_;
     }
 
@@ -113,7 +117,7 @@ class Field {
     Int3 halo_{0, 0, 0};
     Int3 ext_{0, 0, 0};
     std::array<std::size_t, 3> stride_{0, 0, 0};
-    std::vector<real> data_;
+    FieldStorage data_;
 };
 
 /// Staggered velocity: component d lives on the faces normal to d. Only `dim`

@@ -114,6 +114,9 @@ class Hdf5File {
     hid_t file_ = -1;
     hid_t xfer_ = -1;
     const Decomposition& dec_;
+    /// The owned values of the dataset being written or read, kept between datasets so a
+    /// checkpoint of many fields allocates (and the kernel zeroes) one buffer, not one each.
+    std::vector<double> scratch_;
 };
 
 } // namespace efsi

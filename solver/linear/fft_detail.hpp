@@ -4,6 +4,7 @@
 #include "linear/fft_poisson.hpp"
 
 #include "core/error.hpp"
+#include "core/large_page_allocator.hpp"
 #include "parallel/redistribution.hpp"
 
 #include <fftw3.h>
@@ -87,14 +88,9 @@ class FftWorkspace {
         a_to_cart = std::make_unique<Redistribution>(dec.comm(), a_boxes, cart_boxes, &sa, nullptr);
         a_to_b = std::make_unique<Redistribution>(dec.comm(), a_spectral, b_boxes, &sa, &sb);
         b_to_a = std::make_unique<Redistribution>(dec.comm(), b_boxes, a_spectral, &sb, &sa);
-        a = allocate(sa.plane * box_a.size()[2]);
-        b = a_to_b->identity() ? a : allocate(sb.plane * box_b.size()[2]);
-        c = cart_to_a->identity() ? nullptr : allocate(cart.count());
-    }
-    ~FftWorkspace() {
-        if (c) fftw_free(c);
-        if (b != a) fftw_free(b);
-        fftw_free(a);
+        a = allocate(store_a, sa.plane * box_a.size()[2]);
+        b = a_to_b->identity() ? a : allocate(store_b, sb.plane * box_b.size()[2]);
+        c = cart_to_a->identity() ? nullptr : allocate(store_c, cart.count());
     }
     FftWorkspace(const FftWorkspace&) = delete;
     FftWorkspace& operator=(const FftWorkspace&) = delete;
@@ -143,11 +139,16 @@ class FftWorkspace {
         st.plane = st.row * s[1] + (dim == 3 ? 8 : 0);
         return st;
     }
-    static real* allocate(std::int64_t count) {
-        auto* p = static_cast<real*>(
-            fftw_malloc(sizeof(real) * std::size_t(std::max<std::int64_t>(count, 1))));
-        if (!p) throw RunError("FFT solver: out of memory for its buffers");
-        return p;
+    /// The buffers' storage (huge pages where large: the transforms stride across planes).
+    using Buffer = std::vector<real, LargePageAllocator<real>>;
+    Buffer store_a, store_b, store_c;
+    static real* allocate(Buffer& store, std::int64_t count) {
+        try {
+            store.resize(std::size_t(std::max<std::int64_t>(count, 1)));
+        } catch (const std::bad_alloc&) {
+            throw RunError("FFT solver: out of memory for its buffers");
+        }
+        return store.data();
     }
 };
 
@@ -179,6 +180,7 @@ struct FftSolver::Impl {
     PhaseSeconds seconds;
     std::array<bool, 3> in_b{}; ///< transformed in slab B (else in slab A)
     std::vector<real> work;     ///< the tridiagonal solve's modified upper diagonal
+    std::vector<real> wall_rhs; ///< right-hand side of the fixed wall faces (identity rows)
     std::vector<real> zero;     ///< a zero row (the one before the first)
     /// the distributed solve's per-plane coupling table, exchanged line ends and the
     /// reduced system's answers (distributed_tridiagonal)

@@ -242,22 +242,44 @@ class PhaseClock {
 };
 } // namespace
 
+real* FftSolver::input_row(int j, int k) {
+    FftWorkspace& ws = *impl_->ws;
+    real* block = ws.c ? ws.c : ws.a;
+    const Storage sblock = ws.c ? Storage::dense(ws.cart) : ws.sa;
+    return block + sblock.row * j + sblock.plane * k;
+}
+
 SolveReport FftSolver::solve(const Field& rhs, Field& x) {
+    const Int3 nb = impl_->ws->cart.size();
+    PhaseClock clock;
+    // Owned values to the Cartesian buffer (or straight to slab A when they coincide).
+    for (int k = 0; k < nb[2]; ++k)
+        for (int j = 0; j < nb[1]; ++j) {
+            const real* from = rhs.data().data() + rhs.index(0, j, k);
+            std::copy(from, from + nb[0], input_row(j, k));
+        }
+    clock.lap(impl_->seconds.copy);
+    return solve_in_place(x);
+}
+
+SolveReport FftSolver::solve_in_place(Field& x) {
     Impl& I = *impl_;
     FftWorkspace& ws = *I.ws;
     PhaseSeconds& sec = I.seconds;
     PhaseClock clock;
     const Int3 nb = ws.cart.size();
-    // Owned values to the Cartesian buffer (or straight to slab A when they coincide).
     real* block = ws.c ? ws.c : ws.a;
     const Storage sblock = ws.c ? Storage::dense(ws.cart) : ws.sa;
-    for (int k = 0; k < nb[2]; ++k)
-        for (int j = 0; j < nb[1]; ++j) {
-            real* row = block + sblock.row * j + sblock.plane * k;
-            const real* from = rhs.data().data() + rhs.index(0, j, k);
-            std::copy(from, from + nb[0], row);
+    // The fixed wall faces are identity rows: their right-hand side, kept before the
+    // transforms overwrite the buffer.
+    I.wall_rhs.clear();
+    for (int d = 0; d < ws.dim; ++d)
+        if (I.dirs[d].wall_faces && !I.dirs[d].periodic && ws.cart.lo[d] == 0) {
+            Box plane{{0, 0, 0}, nb};
+            plane.hi[d] = 1;
+            for_each_in(plane,
+                        [&](int i, int j, int k) { I.wall_rhs.push_back(input_row(j, k)[i]); });
         }
-    clock.lap(sec.copy);
     if (ws.c) ws.cart_to_a->run(ws.c, ws.a);
     clock.lap(sec.redistribution);
     for (int d = 0; d < ws.dim; ++d)
@@ -279,15 +301,23 @@ SolveReport FftSolver::solve(const Field& rhs, Field& x) {
         const auto& l0 = I.t[0].lambda;
         const auto& l1 = I.t[1].lambda;
         const auto& l2 = I.t[2].lambda;
+        const char* live0 = I.t[0].live.data();
+        const real alpha = I.alpha, beta = I.beta, norm = I.norm;
         for (int k = bb.lo[2]; k < bb.hi[2]; ++k)
             for (int j = bb.lo[1]; j < bb.hi[1]; ++j) {
-                const bool live_jk = I.t[1].live[j] && I.t[2].live[k];
-                const real ljk = l1[j] + l2[k];
                 real* row = ws.b + ws.sb.index(bb, bb.lo[0], j, k) - bb.lo[0];
+                if (!(I.t[1].live[j] && I.t[2].live[k])) {
+                    std::fill(row + bb.lo[0], row + bb.hi[0], 0.0);
+                    continue;
+                }
+                const real ljk = l1[j] + l2[k];
+                // Branch-free, so that it vectorises: a dead entry divides by 1 and is then
+                // set to zero (a live one is divided exactly as before).
                 for (int i = bb.lo[0]; i < bb.hi[0]; ++i) {
-                    const real den = I.alpha + I.beta * (l0[i] + ljk);
-                    row[i] =
-                        (live_jk && I.t[0].live[i] && den != 0) ? row[i] / (den * I.norm) : 0.0;
+                    const real den = alpha + beta * (l0[i] + ljk);
+                    const bool ok = live0[i] != 0 && den != 0;
+                    const real v = row[i] / (ok ? den * norm : 1.0);
+                    row[i] = ok ? v : 0.0;
                 }
             }
     }
@@ -308,11 +338,12 @@ SolveReport FftSolver::solve(const Field& rhs, Field& x) {
             std::copy(row, row + nb[0], x.data().data() + x.index(0, j, k));
         }
     // The fixed wall faces are identity rows.
+    std::size_t q = 0;
     for (int d = 0; d < ws.dim; ++d)
         if (I.dirs[d].wall_faces && !I.dirs[d].periodic && ws.cart.lo[d] == 0) {
             Box plane{{0, 0, 0}, nb};
             plane.hi[d] = 1;
-            for_each_in(plane, [&](int i, int j, int k) { x(i, j, k) = rhs(i, j, k); });
+            for_each_in(plane, [&](int i, int j, int k) { x(i, j, k) = I.wall_rhs[q++]; });
         }
     clock.lap(sec.copy);
     SolveReport r;

@@ -80,6 +80,13 @@ class FftSolver {
     /// has one iteration and a zero (not measured) residual.
     SolveReport solve(const Field& rhs, Field& x);
 
+    /// The right-hand side written straight into the solver's buffer, which saves the copy
+    /// of solve(rhs, x): row (j, k) of the owned block (block-local indices, n[0] values)
+    /// goes to input_row(j, k); then solve_in_place(x). A wall-face identity row takes its
+    /// value from the buffer too.
+    real* input_row(int j, int k);
+    SolveReport solve_in_place(Field& x);
+
     /// One line naming the transform of each direction (for logs).
     std::string describe() const;
 

@@ -71,10 +71,16 @@ void FftSolver::Impl::tridiagonal() {
             real* cp = work.data() + std::size_t(j) * nx;
             const real* prev = j == first ? zero.data() : row - stride[T];
             const real* cprev = j == first ? zero.data() : cp - nx;
+            const real* lx = l0.data() + bb.lo[0];
+            // Branch-free, so that it vectorises: a zero pivot divides by 1 and its results
+            // are then set to zero (a nonzero one divides exactly as before).
             for (int i = 0; i < nx; ++i) {
-                const real den = alpha + beta * (l0[bb.lo[0] + i] + lq) + e + g * cprev[i];
-                cp[i] = den != 0 ? -g / den : 0.0;
-                row[i] = den != 0 ? (row[i] * inv_norm + g * prev[i]) / den : 0.0;
+                const real den = alpha + beta * (lx[i] + lq) + e + g * cprev[i];
+                const bool ok = den != 0;
+                const real d = ok ? den : 1.0;
+                const real c = -g / d, r = (row[i] * inv_norm + g * prev[i]) / d;
+                cp[i] = ok ? c : 0.0;
+                row[i] = ok ? r : 0.0;
             }
         }
         // back substitution

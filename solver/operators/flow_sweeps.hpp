@@ -229,25 +229,26 @@ inline real max_abs(const real* __restrict x, int n, real m) {
     return m;
 }
 
-/// rhs = -scale div(v) at the cell centres; returns max |v| over the owned faces swept when
-/// Speed (the iterative solve's stopping floor needs it; the direct solve does not).
-template <int Dim, bool Speed = true>
-real divergence(const VelocityField& u, const GlobalGrid& g, real scale, Field& rhs) {
-    const Layout L(rhs);
+/// -scale div(v) at the cell centres of row (j, k) of the owned block, written to
+/// out_row(j, k) (a pointer to the row's first owned point: a field's row, or a solver's
+/// buffer); returns max |v| over the owned faces swept when Speed (the iterative solve's
+/// stopping floor needs it; the direct solve does not).
+template <int Dim, bool Speed, class OutRow>
+real divergence_rows(const VelocityField& u, const GlobalGrid& g, real scale, OutRow&& out_row) {
+    const Layout L(u[0]);
     real inv[3];
     for (int e = 0; e < 3; ++e)
         inv[e] = e < Dim ? scale / g.dx(e) : 0.0;
     const real* v[3] = {u[0].data().data(), u[1].data().data(),
                         Dim > 2 ? u[2].data().data() : nullptr};
-    real* out = rhs.data().data();
     const int n0 = L.n[0];
     real speed = 0;
     for_each_row(L.n, [&](int j, int k) {
-        const std::ptrdiff_t r = L.row(rhs, j, k);
+        const std::ptrdiff_t r = L.row(u[0], j, k);
         const real* __restrict x0 = v[0] + r;
         const real* __restrict y0 = v[1] + r;
         const real* __restrict y1 = v[1] + r + L.s[1];
-        real* __restrict o = out + r;
+        real* __restrict o = out_row(j, k);
         if constexpr (Dim == 2) {
             for (int i = 0; i < n0; ++i)
                 o[i] = -((x0[i + 1] - x0[i]) * inv[0] + (y1[i] - y0[i]) * inv[1]);
@@ -263,6 +264,16 @@ real divergence(const VelocityField& u, const GlobalGrid& g, real scale, Field& 
                 speed = max_abs(v[e] + r, n0, speed);
     });
     return speed;
+}
+
+/// rhs = -scale div(v) at the cell centres (divergence_rows into a field of u's layout).
+template <int Dim, bool Speed = true>
+real divergence(const VelocityField& u, const GlobalGrid& g, real scale, Field& rhs) {
+    require_same_layout(u[0], rhs);
+    const Layout L(rhs);
+    real* out = rhs.data().data();
+    return divergence_rows<Dim, Speed>(u, g, scale,
+                                       [&](int j, int k) { return out + L.row(rhs, j, k); });
 }
 
 /// v_c = v*_c - scale grad_c phi at the c-faces (0 on a fixed wall face).

@@ -245,41 +245,72 @@ SolveReport SmacStepper::viscous_solve(const FlowState& s, real dt) {
     SolveReport worst;
     for (int c = 0; c < s.u.dim; ++c) {
         // Right-hand side: the predictor plus the known wall values of the ghosts (and, with
-        // increment damping, -b lap_h v^n, its ghosts holding the walls at t^n).
-        for_each_cell(dec_.block().cells, [&](int i, int j, int k) {
-            const Int3 p{i, j, k};
-            real r = ustar_[c](p);
-            if (b > 0 && !halos_.is_fixed_wall_face(c, p[c])) {
-                const real uc = s.u[c](p);
-                real lap = 0;
-                for (int e = 0; e < s.u.dim; ++e)
-                    lap +=
-                        (s.u[c](shifted(p, e, -1)) - 2 * uc + s.u[c](shifted(p, e, 1))) * inv_h2[e];
-                r -= b * lap;
-            }
-            // Only points next to a no-slip wall across their component get a wall term
-            // (the weights are computed there only: this loop runs before every solve).
+        // increment damping, -b lap_h v^n, its ghosts holding the walls at t^n). Written
+        // straight into the direct solver's buffer when it solves this component.
+        FftSolver* fft =
+            (viscous_fft_[c] && !s.viscosity_varies && !pinning_) ? viscous_fft_[c].get() : nullptr;
+        const Int3 n = dec_.block().cells;
+        auto out_row = [&](int j, int k) { return fft ? fft->input_row(j, k) : &rhs_(0, j, k); };
+        for_each_owned_row(dec_, [&](int j, int k) {
+            const real* from = &ustar_[c](0, j, k);
+            std::copy(from, from + n[0], out_row(j, k));
+        });
+        if (b > 0)
+            for_each_owned_row(dec_, [&](int j, int k) {
+                real* r = out_row(j, k);
+                for (int i = 0; i < n[0]; ++i) {
+                    const Int3 p{i, j, k};
+                    if (halos_.is_fixed_wall_face(c, p[c])) continue;
+                    const real uc = s.u[c](p);
+                    real lap = 0;
+                    for (int e = 0; e < s.u.dim; ++e)
+                        lap += (s.u[c](shifted(p, e, -1)) - 2 * uc + s.u[c](shifted(p, e, 1))) *
+                               inv_h2[e];
+                    r[i] -= b * lap;
+                }
+            });
+        // Only points next to a no-slip wall across their component get a wall term (the
+        // weights are computed there only: this runs before every solve). Such points lie
+        // in a row on a wall plane (y or z) or at the ends of a row (x).
+        auto wall_terms = [&](const Int3& p, real& r) {
             bool next_to_wall = false;
             for (int e = 0; e < s.u.dim; ++e)
                 for (int side = 0; side < 2; ++side)
                     next_to_wall = next_to_wall || (e != c && on_box_face(dec_, bc, e, side, p) &&
                                                     bc[e][side].type == BoundaryType::Wall);
-            if (next_to_wall && !halos_.is_fixed_wall_face(c, p[c])) {
-                const auto w = viscous_weights(s.mu, g, s.u.dim, c, p);
-                for (int e = 0; e < s.u.dim; ++e)
-                    for (int side = 0; side < 2; ++side)
-                        if (e != c && on_box_face(dec_, bc, e, side, p) &&
-                            bc[e][side].type == BoundaryType::Wall)
-                            r += 2 * (a * w[e][side] + b * inv_h2[e]) *
-                                 bc[e][side].velocity_at(c, halos_.time());
+            if (!next_to_wall || halos_.is_fixed_wall_face(c, p[c])) return;
+            const auto w = viscous_weights(s.mu, g, s.u.dim, c, p);
+            for (int e = 0; e < s.u.dim; ++e)
+                for (int side = 0; side < 2; ++side)
+                    if (e != c && on_box_face(dec_, bc, e, side, p) &&
+                        bc[e][side].type == BoundaryType::Wall)
+                        r += 2 * (a * w[e][side] + b * inv_h2[e]) *
+                             bc[e][side].velocity_at(c, halos_.time());
+        };
+        auto wall_plane = [&](int e, int index) {
+            if (e == c || e >= s.u.dim) return false;
+            for (int side = 0; side < 2; ++side)
+                if (bc[e][side].type == BoundaryType::Wall &&
+                    on_box_face(dec_, bc, e, side, Int3{index, index, index}))
+                    return true;
+            return false;
+        };
+        const bool x_walls = wall_plane(0, 0) || wall_plane(0, n[0] - 1);
+        for_each_owned_row(dec_, [&](int j, int k) {
+            real* r = out_row(j, k);
+            if (wall_plane(1, j) || wall_plane(2, k)) {
+                for (int i = 0; i < n[0]; ++i)
+                    wall_terms(Int3{i, j, k}, r[i]);
+            } else if (x_walls) {
+                wall_terms(Int3{0, j, k}, r[0]);
+                if (n[0] > 1) wall_terms(Int3{n[0] - 1, j, k}, r[n[0] - 1]);
             }
-            rhs_(p) = r;
         });
-        if (viscous_fft_[c] && !s.viscosity_varies && !pinning_) {
+        if (fft) {
             // Constant coefficients: (I - a mu L_h) solved directly, mu the (uniform)
             // viscosity field's value as the other terms and the hypre operator use it.
-            viscous_fft_[c]->set_coefficients(1.0, a * s.mu(0, 0, 0) + b);
-            const SolveReport r = viscous_fft_[c]->solve(rhs_, ustar_[c]);
+            fft->set_coefficients(1.0, a * s.mu(0, 0, 0) + b);
+            const SolveReport r = fft->solve_in_place(ustar_[c]);
             if (r.iterations >= worst.iterations) worst = r;
             continue;
         }
@@ -346,11 +377,13 @@ SolveReport SmacStepper::pressure_solve(real dt) {
         // The direct solve needs no stopping floor (so no max |v*| and no reduction for
         // it) and no starting guess; it drops the right-hand side's mean (its zero mode,
         // round-off here) and sets the (undetermined) mean of phi to zero.
+        // The right-hand side goes straight into the solver's buffer.
+        auto into = [&](int j, int k) { return pressure_fft_->input_row(j, k); };
         if (ustar_.dim == 2)
-            sweep::divergence<2, false>(ustar_, g, scale, rhs_);
+            sweep::divergence_rows<2, false>(ustar_, g, scale, into);
         else
-            sweep::divergence<3, false>(ustar_, g, scale, rhs_);
-        return pressure_fft_->solve(rhs_, phi_);
+            sweep::divergence_rows<3, false>(ustar_, g, scale, into);
+        return pressure_fft_->solve_in_place(phi_);
     }
     const real speed = ustar_.dim == 2 ? sweep::divergence<2>(ustar_, g, scale, rhs_)
                                        : sweep::divergence<3>(ustar_, g, scale, rhs_);

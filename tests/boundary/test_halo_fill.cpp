@@ -127,7 +127,7 @@ TEST_P(HaloFill, ScalarAndVelocityHalosFollowTheRules) {
         EXPECT_LT(worst_mismatch(u[c], b, {s.grid, s.bc, c}), 1e-14) << "component " << c;
 
     // A second fill changes nothing (the rules are idempotent).
-    const std::vector<real> before = u[0].data();
+    const FieldStorage before = u[0].data();
     halos.fill(u);
     EXPECT_EQ(u[0].data(), before);
 }
