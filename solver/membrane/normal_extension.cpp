@@ -185,12 +185,13 @@ bool NormalExtension::foot_on_surface(const Trilinear& at) const {
 bool NormalExtension::normal_at(const Int3& p, real& s, Real3& n) const {
     const GlobalGrid& g = halos_.decomposition().grid();
     s = psi_(p);
+    n = Real3{0, 0, 0};
+    if (std::abs(s) > reach_cells_ * g.dx(0)) return false; // before the gradient: most cells
     const Real3 gp = central_gradient(psi_, g, p);
     real g2 = 0;
     for (int d = 0; d < g.dim; ++d)
         g2 += gp[d] * gp[d];
-    n = Real3{0, 0, 0};
-    if (std::abs(s) > reach_cells_ * g.dx(0) || g2 < 0.25) return false;
+    if (g2 < 0.25) return false;
     for (int d = 0; d < g.dim; ++d)
         n[d] = gp[d] / std::sqrt(g2);
     return true;
