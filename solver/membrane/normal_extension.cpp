@@ -74,15 +74,20 @@ bool NormalExtension::prepare(Body& body, const std::vector<const Field*>& field
     Field& phi = body.phi();
     const real eps = eps_cells_ * dec.grid().dx(0);
     if (!empty) {
-        if (psi_.data().empty() || psi_.begin() != phi.begin() || psi_.cells() != phi.cells() ||
-            int(src_.size()) != ncomp + 1) {
+        // The buffers follow the patch; the number of sources changes between the calls of
+        // one step (the map's 3, then Gs's 6 with the weights), so they are kept for the
+        // largest count and reused, not allocated again at every call.
+        const bool moved =
+            psi_.data().empty() || psi_.begin() != phi.begin() || psi_.cells() != phi.cells();
+        if (moved) {
             psi_ = Field::on_patch("psi", Location::Cell, phi.begin(), phi.cells(), dim, 1);
+            psi_wide_ = Field::on_patch("psi_wide", Location::Cell, phi.begin(), phi.cells(), dim,
+                                        wide_halo_);
             src_.clear();
-            // the fields, then psi (with the wide halo: foot points are checked against it)
-            for (int s = 0; s <= ncomp; ++s)
-                src_.push_back(Field::on_patch("extension_source", Location::Cell, phi.begin(),
-                                               phi.cells(), dim, wide_halo_));
         }
+        while (int(src_.size()) < ncomp)
+            src_.push_back(Field::on_patch("extension_source", Location::Cell, phi.begin(),
+                                           phi.cells(), dim, wide_halo_));
         // Row by row: psi, then a copy of each field's owned values.
         const Box own = phi.owned();
         const int nx = own.hi[0] - own.lo[0];
@@ -92,7 +97,7 @@ bool NormalExtension::prepare(Body& body, const std::vector<const Field*>& field
                 real* p = &psi_(own.lo[0], j, k);
                 for (int i = 0; i < nx; ++i)
                     p[i] = profile_distance(f[i], eps);
-                std::copy(p, p + nx, &src_[ncomp](own.lo[0], j, k));
+                std::copy(p, p + nx, &psi_wide_(own.lo[0], j, k));
                 for (int s = 0; s < ncomp; ++s) {
                     const real* from = fields[s]->data().data() + fields[s]->index(own.lo[0], j, k);
                     std::copy(from, from + nx, &src_[s](own.lo[0], j, k));
@@ -103,8 +108,9 @@ bool NormalExtension::prepare(Body& body, const std::vector<const Field*>& field
     // flags pair the ranks).
     if (empty) return false;
     halos_.fill(psi_, body.patch());
-    for (Field& f : src_)
-        halos_.fill(f, body.patch());
+    halos_.fill(psi_wide_, body.patch());
+    for (int s = 0; s < ncomp; ++s)
+        halos_.fill(src_[s], body.patch());
     return true;
 }
 
@@ -124,7 +130,7 @@ NormalExtension::Trilinear NormalExtension::trilinear_at(const Real3& x) const {
         t[d] = u - base[d];
     }
     Trilinear r;
-    r.corner = src_.front().index(base[0], base[1], base[2]);
+    r.corner = psi_wide_.index(base[0], base[1], base[2]);
     const int kz = dim == 3 ? 2 : 1;
     for (int c = 0; c < kz; ++c)
         for (int b = 0; b < 2; ++b)
@@ -178,7 +184,7 @@ real NormalExtension::interpolate_cubic(const Field& f, const Real3& x) const {
 }
 
 bool NormalExtension::foot_on_surface(const Trilinear& at) const {
-    return std::abs(interpolate(src_.back(), at)) <=
+    return std::abs(interpolate(psi_wide_, at)) <=
            kFootTolerance * halos_.decomposition().grid().dx(0);
 }
 

@@ -81,7 +81,7 @@ class NormalExtension {
     };
     Trilinear trilinear_at(const Real3& x) const;
     /// Whether a foot point lies on the surface: |psi| there (trilinear, from the wide-halo
-    /// copy of psi that prepare() keeps last in src_) at most kFootTolerance cells. Off it
+    /// copy of psi that prepare() keeps in psi_wide_) at most kFootTolerance cells. Off it
     /// where the normal at the cell is not the distance's: a thin body's middle, where the
     /// two faces' profiles meet and psi's gradient turns. Measured on field snapshots
     /// (verification/records/capsule_longtime/foot_points.py): d/16 Ca 0.05 at t = 20, every
@@ -105,6 +105,7 @@ class NormalExtension {
     int wide_halo_;
     Field psi_;                 ///< eps atanh(1 - 2 phi), halo 1
     std::vector<Field> src_;    ///< Gs (or X - x) after the transport, wide halos
+    Field psi_wide_;            ///< psi with the wide halo (foot points are checked on it)
     Field valid_;               ///< reference map: 1 where Gs from X is valid, else 0
     Field area_ratio_;          ///< area_filter: J of the rebuilt Gs on valid cells, halo 1
     Field filtered_area_ratio_; ///< area_filter: its low-passed value on valid cells
