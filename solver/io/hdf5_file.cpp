@@ -50,13 +50,6 @@ ZeroFill zero_fill(hid_t type) {
     return ZeroFill(type);
 }
 
-std::uint64_t mix64(std::uint64_t x) {
-    x += 0x9e3779b97f4a7c15ULL;
-    x = (x ^ (x >> 30)) * 0xbf58476d1ce4e5b9ULL;
-    x = (x ^ (x >> 27)) * 0x94d049bb133111ebULL;
-    return x ^ (x >> 31);
-}
-
 /// A fixed-length string type of n bytes (n >= 1).
 hid_t string_type(std::size_t n) {
     hid_t t = H5Tcopy(H5T_C_S1);
@@ -230,33 +223,6 @@ struct BoxSpace {
 };
 } // namespace
 
-std::uint64_t Hdf5File::block_checksum(const Decomposition& dec, const Field& f,
-                                       const std::vector<double>& values) {
-    const GlobalGrid& g = dec.grid();
-    const LocalBlock& b = dec.block();
-    const Box own = f.owned();
-    const int n0 = own.hi[0] - own.lo[0];
-    std::uint64_t sum = 0;
-    const double* v = values.data();
-    // Row by row (x fastest, as the values are stored): the same terms as point by point.
-    for (int k = own.lo[2]; k < own.hi[2]; ++k)
-        for (int j = own.lo[1]; j < own.hi[1] && n0 > 0; ++j) {
-            const std::uint64_t row = (std::uint64_t(b.offset[2] + k) * std::uint64_t(g.cells[1]) +
-                                       std::uint64_t(b.offset[1] + j)) *
-                                          std::uint64_t(g.cells[0]) +
-                                      std::uint64_t(b.offset[0] + own.lo[0]);
-            for (int i = 0; i < n0; ++i) {
-                std::uint64_t bits = 0;
-                std::memcpy(&bits, v + i, sizeof bits);
-                sum += mix64(mix64(row + std::uint64_t(i)) ^ bits);
-            }
-            v += n0;
-        }
-    std::uint64_t total = 0;
-    MPI_Allreduce(&sum, &total, 1, MPI_UINT64_T, MPI_SUM, dec.comm());
-    return total;
-}
-
 namespace {
 /// The owned values of `f` in storage order (x fastest), row by row.
 void gather_owned(const Field& f, std::vector<double>& buf) {
@@ -386,17 +352,6 @@ void Hdf5File::read_block(const std::string& name, Field& f, bool require_checks
             std::copy(from, from + n0, f.data().data() + f.index(own.lo[0], j, k));
             from += n0;
         }
-}
-
-std::uint64_t Hdf5File::array_checksum(const void* values, std::size_t n) {
-    std::uint64_t sum = mix64(n);
-    const auto* b = static_cast<const unsigned char*>(values);
-    for (std::size_t i = 0; i < n; ++i) {
-        std::uint64_t bits = 0;
-        std::memcpy(&bits, b + 8 * i, sizeof bits);
-        sum += mix64(mix64(i) ^ bits);
-    }
-    return sum;
 }
 
 std::uint64_t Hdf5File::write_array_any(const std::string& name, std::size_t n, const void* values,
