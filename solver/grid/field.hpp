@@ -8,7 +8,6 @@
 // In 2D (dim == 2) there is no z halo, so k is always 0 and nothing is stored twice.
 #pragma once
 
-#include "core/large_page_allocator.hpp"
 #include "core/types.hpp"
 #include "grid/box.hpp"
 #include "grid/grid.hpp"
@@ -20,8 +19,9 @@
 
 namespace efsi {
 
-/// A field's values (huge pages where the field is large: core/large_page_allocator.hpp).
-using FieldStorage = std::vector<real, LargePageAllocator<real>>;
+/// A field's values. (Huge pages for fields were measured and not kept: the d/16 capsule's
+/// body stages came out 15-48 % slower with them; docs/method.md, "Huge pages".)
+using FieldStorage = std::vector<real>;
 
 class Field {
   public:

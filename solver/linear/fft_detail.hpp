@@ -4,7 +4,6 @@
 #include "linear/fft_poisson.hpp"
 
 #include "core/error.hpp"
-#include "core/large_page_allocator.hpp"
 #include "parallel/redistribution.hpp"
 
 #include <fftw3.h>
@@ -88,9 +87,14 @@ class FftWorkspace {
         a_to_cart = std::make_unique<Redistribution>(dec.comm(), a_boxes, cart_boxes, &sa, nullptr);
         a_to_b = std::make_unique<Redistribution>(dec.comm(), a_spectral, b_boxes, &sa, &sb);
         b_to_a = std::make_unique<Redistribution>(dec.comm(), b_boxes, a_spectral, &sb, &sa);
-        a = allocate(store_a, sa.plane * box_a.size()[2]);
-        b = a_to_b->identity() ? a : allocate(store_b, sb.plane * box_b.size()[2]);
-        c = cart_to_a->identity() ? nullptr : allocate(store_c, cart.count());
+        a = allocate(sa.plane * box_a.size()[2]);
+        b = a_to_b->identity() ? a : allocate(sb.plane * box_b.size()[2]);
+        c = cart_to_a->identity() ? nullptr : allocate(cart.count());
+    }
+    ~FftWorkspace() {
+        if (c) fftw_free(c);
+        if (b != a) fftw_free(b);
+        fftw_free(a);
     }
     FftWorkspace(const FftWorkspace&) = delete;
     FftWorkspace& operator=(const FftWorkspace&) = delete;
@@ -139,16 +143,11 @@ class FftWorkspace {
         st.plane = st.row * s[1] + (dim == 3 ? 8 : 0);
         return st;
     }
-    /// The buffers' storage (huge pages where large: the transforms stride across planes).
-    using Buffer = std::vector<real, LargePageAllocator<real>>;
-    Buffer store_a, store_b, store_c;
-    static real* allocate(Buffer& store, std::int64_t count) {
-        try {
-            store.resize(std::size_t(std::max<std::int64_t>(count, 1)));
-        } catch (const std::bad_alloc&) {
-            throw RunError("FFT solver: out of memory for its buffers");
-        }
-        return store.data();
+    static real* allocate(std::int64_t count) {
+        auto* p = static_cast<real*>(
+            fftw_malloc(sizeof(real) * std::size_t(std::max<std::int64_t>(count, 1))));
+        if (!p) throw RunError("FFT solver: out of memory for its buffers");
+        return p;
     }
 };
 
