@@ -1,6 +1,7 @@
 #include "bodies/seeding.hpp"
 
 #include "core/error.hpp"
+#include "core/splitmix64.hpp"
 
 #include <fmt/format.h>
 
@@ -12,13 +13,6 @@
 namespace efsi {
 
 namespace {
-
-std::uint64_t splitmix64(std::uint64_t x) {
-    x += 0x9e3779b97f4a7c15ULL;
-    x = (x ^ (x >> 30)) * 0xbf58476d1ce4e5b9ULL;
-    x = (x ^ (x >> 27)) * 0x94d049bb133111ebULL;
-    return x ^ (x >> 31);
-}
 
 Real3 apply(const Matrix3& r, const Real3& y) {
     Real3 x{};

@@ -3,20 +3,13 @@
 // order in which the ranks add their parts.
 #include "io/hdf5_file.hpp"
 
+#include "core/splitmix64.hpp"
+
 #include <mpi.h>
 
 #include <cstring>
 
 namespace efsi {
-
-namespace {
-std::uint64_t mix64(std::uint64_t x) {
-    x += 0x9e3779b97f4a7c15ULL;
-    x = (x ^ (x >> 30)) * 0xbf58476d1ce4e5b9ULL;
-    x = (x ^ (x >> 27)) * 0x94d049bb133111ebULL;
-    return x ^ (x >> 31);
-}
-} // namespace
 
 std::uint64_t Hdf5File::block_checksum(const Decomposition& dec, const Field& f,
                                        const std::vector<double>& values) {
@@ -36,7 +29,7 @@ std::uint64_t Hdf5File::block_checksum(const Decomposition& dec, const Field& f,
             for (int i = 0; i < n0; ++i) {
                 std::uint64_t bits = 0;
                 std::memcpy(&bits, v + i, sizeof bits);
-                sum += mix64(mix64(row + std::uint64_t(i)) ^ bits);
+                sum += splitmix64(splitmix64(row + std::uint64_t(i)) ^ bits);
             }
             v += n0;
         }
@@ -46,12 +39,12 @@ std::uint64_t Hdf5File::block_checksum(const Decomposition& dec, const Field& f,
 }
 
 std::uint64_t Hdf5File::array_checksum(const void* values, std::size_t n) {
-    std::uint64_t sum = mix64(n);
+    std::uint64_t sum = splitmix64(n);
     const auto* b = static_cast<const unsigned char*>(values);
     for (std::size_t i = 0; i < n; ++i) {
         std::uint64_t bits = 0;
         std::memcpy(&bits, b + 8 * i, sizeof bits);
-        sum += mix64(mix64(i) ^ bits);
+        sum += splitmix64(splitmix64(i) ^ bits);
     }
     return sum;
 }
