@@ -81,18 +81,38 @@ def capsule_box_sets(dim: int, cells_per_diameter: int) -> dict:
 # diagnostics.csv, summary.json, case.toml and record.json with the commit and command
 # that made it). A session's build/ does not outlive it, and the full tier's 3D runs take
 # longer than one; with EFSI_VERIFY_RECORDS=1 a run missing from the build cache is taken
-# from its record (listed in the study's notes) instead of being recomputed. Written by
-# `verification/record.py`.
+# from its record (listed in the study's notes) instead of being recomputed. With
+# EFSI_VERIFY_RECORDS=only a run that has neither raises RunNotMade instead of running: a
+# study that can report a run as not made (capsule_longtime, whose area-stiff runs take days
+# here) catches it; any other stops with its name. Written by `verification/record.py`.
 RECORDS = Path(__file__).resolve().parents[1] / "records"
 RECORD_FILES = ("bodies.csv", "diagnostics.csv", "adhesion.csv", "summary.json", "case.toml",
                 "record.json")
 USED_RECORDS: list[str] = []
 
 
-def record_dir(out: Path) -> Path:
-    """build/verification/<study>/runs/<key> -> verification/records/<study>/<key>."""
+class RunNotMade(RuntimeError):
+    """EFSI_VERIFY_RECORDS=only and the run is neither in the cache nor recorded."""
+
+    def __init__(self, out: Path):
+        super().__init__(f"run {Path(out).name} is neither in {Path(out).parent} nor recorded "
+                         f"in {record_dir(out).parent} (EFSI_VERIFY_RECORDS=only: not run)")
+        self.out = Path(out)
+
+
+def records_mode() -> str:
+    """EFSI_VERIFY_RECORDS: "" (compute what the cache lacks), "1" (take a missing run from
+    its record first), "only" (records, never a new run)."""
+    import os
+
+    return os.environ.get("EFSI_VERIFY_RECORDS", "")
+
+
+def record_dir(out: Path, record: str | None = None) -> Path:
+    """build/verification/<study>/runs/<key> -> verification/records/<study>/<key> (or
+    <record> when the study names its record otherwise)."""
     out = Path(out)
-    return RECORDS / out.parent.parent.name / out.name
+    return RECORDS / out.parent.parent.name / (record or out.name)
 
 
 def run_status(out: Path) -> dict | None:
@@ -112,17 +132,17 @@ def run_finished(out: Path, t_end: float | None, allow_unstable: bool = False) -
     return s.get("status") == "completed" and (t_end is None or abs(s["time"] - t_end) < 1e-9)
 
 
-def completed(out: Path, t_end: float | None = None, allow_unstable: bool = False) -> bool:
-    """True when ``out`` holds a finished run (run_finished); with EFSI_VERIFY_RECORDS=1 a
-    finished committed record of it is copied in first."""
-    import os
+def completed(out: Path, t_end: float | None = None, allow_unstable: bool = False,
+              record: str | None = None) -> bool:
+    """True when ``out`` holds a finished run (run_finished); with EFSI_VERIFY_RECORDS=1 (or
+    only) a finished committed record of it (folder ``record``, default the run's name) is
+    copied in first."""
     import shutil
 
     if run_finished(out, t_end, allow_unstable):
         return True
-    rec = record_dir(out)
-    if os.environ.get("EFSI_VERIFY_RECORDS") != "1" or not run_finished(rec, t_end,
-                                                                        allow_unstable):
+    rec = record_dir(out, record)
+    if records_mode() not in ("1", "only") or not run_finished(rec, t_end, allow_unstable):
         return False
     Path(out).mkdir(parents=True, exist_ok=True)
     for name in RECORD_FILES:
@@ -130,18 +150,22 @@ def completed(out: Path, t_end: float | None = None, allow_unstable: bool = Fals
             shutil.copy2(rec / name, Path(out) / name)
     meta = json.loads((rec / "record.json").read_text())
     commit = meta.get("git_at_record", "?")[:10]
-    USED_RECORDS.append(f"{Path(out).name} (recorded at commit {commit}, {meta.get('date', '?')})")
+    name = Path(out).name if rec.name == Path(out).name else f"{Path(out).name} (record {rec.name})"
+    USED_RECORDS.append(f"{name} (recorded at commit {commit}, {meta.get('date', '?')})")
     return True
 
 
 def cached_run(ctx, case: Path, out: Path, sets: dict, t_end: float | None = None,
-               ranks: int = 1, allow_unstable: bool = False) -> Path:
+               ranks: int = 1, allow_unstable: bool = False, record: str | None = None) -> Path:
     """Run ``case`` into ``out`` unless a finished run is there; a run cut short resumes
     from its last checkpoint. With ``allow_unstable`` a run that stops UNSTABLE (exit 3,
     summary status "unstable") is a result, not an error: the caller reports where it
-    stopped."""
-    if completed(out, t_end, allow_unstable):
+    stopped. ``record`` names the run's record folder when it is not the run's name.
+    Raises RunNotMade under EFSI_VERIFY_RECORDS=only when there is nothing to take."""
+    if completed(out, t_end, allow_unstable, record):
         return out
+    if records_mode() == "only":
+        raise RunNotMade(out)
     extra = ["--restart", str(out / "checkpoint.h5")] if (out / "checkpoint.h5").exists() else []
     res = ctx.run_efsi(case, out, sets=sets, extra=extra, ranks=ranks, check=not allow_unstable)
     if allow_unstable and not run_finished(out, t_end, allow_unstable=True):

@@ -65,3 +65,25 @@ def test_sharp_steady_d_is_the_last_quarters_mean_and_only_when_measured(tmp_pat
     assert longtime.measure(tmp_path / "b")["steady_D_sharp"] is None
     _write_run(tmp_path / "c", None)
     assert longtime.measure(tmp_path / "c")["steady_D_sharp"] is None
+
+
+def test_a_run_neither_cached_nor_recorded_is_reported_as_not_made(tmp_path, monkeypatch):
+    """EFSI_VERIFY_RECORDS=only with no record: the run is a "not run" row and counts in
+    runs_not_made, whose bound breaks; the solver is never started."""
+    import _bounds
+    import _flowio
+
+    class Ctx:
+        tier, repo, outdir, long_ranks = "ci", REPO, tmp_path / "out", 1
+
+        def run_efsi(self, *a, **k):
+            raise AssertionError("records only: nothing may run")
+
+    monkeypatch.setattr(_flowio, "RECORDS", tmp_path / "records")
+    monkeypatch.setenv("EFSI_VERIFY_RECORDS", "only")
+    result = longtime.run(Ctx())
+    assert result["metrics"]["runs_not_made"] == 1
+    assert result["tables"]["runs"][0]["status"] == "not run"
+    assert "Not made" in result["notes"] and "ca0.2_n32" in result["notes"]
+    bad = _bounds.broken(_bounds.evaluate(longtime.BOUNDS, result["metrics"], "ci"))
+    assert any("runs_not_made" in str(v) for v in bad)

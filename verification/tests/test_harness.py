@@ -102,6 +102,38 @@ def test_cached_run_takes_an_unstable_stop_as_a_result_only_when_allowed(tmp_pat
                            allow_unstable=True)
 
 
+
+def test_records_only_takes_a_named_record_and_never_runs(tmp_path, monkeypatch):
+    """EFSI_VERIFY_RECORDS=only: a run is taken from its record (here a folder named other
+    than the run, as capsule_longtime's `_foot` records) or raises RunNotMade; the solver is
+    never started."""
+    sys.path.insert(0, str(REPO / "verification" / "studies"))
+    import _flowio
+    import pytest
+
+    monkeypatch.setattr(_flowio, "RECORDS", tmp_path / "records")
+    monkeypatch.setenv("EFSI_VERIFY_RECORDS", "only")
+    rec = tmp_path / "records" / "capsule_longtime" / "ca0.05_n64_t20_foot"
+    rec.mkdir(parents=True)
+    (rec / "summary.json").write_text(json.dumps({"status": "completed", "time": 20.0}))
+    (rec / "record.json").write_text(json.dumps({"git_at_record": "abcdef0123"}))
+    runs = tmp_path / "build" / "capsule_longtime" / "runs"
+    ctx = _FakeCtx("completed")
+    _flowio.USED_RECORDS.clear()
+    out = _flowio.cached_run(ctx, Path("case"), runs / "ca0.05_n64_t20", {}, 20.0,
+                             record="ca0.05_n64_t20_foot")
+    assert (out / "summary.json").exists() and ctx.calls == []
+    assert "record ca0.05_n64_t20_foot" in _flowio.USED_RECORDS[0]
+    # The plain name is not the record asked for: nothing is taken, nothing runs.
+    with pytest.raises(_flowio.RunNotMade, match="not run"):
+        _flowio.cached_run(ctx, Path("case"), runs / "ca0.1_n64_t20", {}, 20.0,
+                           record="ca0.1_n64_t20_foot")
+    assert ctx.calls == []
+    # Without "only" the same missing run is made.
+    monkeypatch.setenv("EFSI_VERIFY_RECORDS", "1")
+    _flowio.cached_run(ctx, Path("case"), runs / "ca0.1_n64_t20", {}, 0.7)
+    assert len(ctx.calls) == 1
+
 def test_full_tier_results_are_stored_and_published_with_a_status(tmp_path, monkeypatch):
     """run.py keeps a finished full-tier result (figures beside it, repository-relative
     paths); publish.py writes the page from the stored results and names the studies that
