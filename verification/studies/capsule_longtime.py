@@ -24,6 +24,9 @@ direction, 4 x cells per diameter; Skalak / bending runs add _skalak_C<C> / _ben
   tension the deformed capsule's area gain needs over the shear tension: the first-order
   Skalak value compared with holds only where chi << 1 (C = 100 at Ca 0.025: chi ~ 6, D 0.75
   of it at d/16; docs/method.md "What sets the area-stiff capsule's D");
+- wall_seconds_per_shear_time_<tag> and ranks_<tag>: the run's wall seconds per step (of
+  its last part, when resumed from a checkpoint) times its steps per unit of shear-rate x t,
+  and its MPI ranks (issue 19's cost figure; loose: the records ran on a shared machine);
 - steady_D_sharp_<tag>: the steady D of the body bounded by phi = 1/2 (bodies.csv
   `taylor_deformation_sharp`, docs/method.md "Measuring D"), beside steady_D (the moments of
   phi, which the carried profile's tails bias low; the bias is measured there); reported, the bounds stay on
@@ -190,6 +193,7 @@ def measure(out: Path) -> dict:
             "volume_drift": float(abs(v_end / vol[0] - 1)),
             "reference_area_drift": ref_drift, "steady_D_sharp": steady_sharp,
             "status": summary.get("status", "?"), "wall_seconds": summary.get("wall_seconds"),
+            "steps": summary.get("steps"), "final_step": summary.get("final_step"),
             "ranks": summary.get("ranks", 1)}
 
 
@@ -239,6 +243,14 @@ def run(ctx):
             metrics[f"reference_area_drift_{key}"] = m["reference_area_drift"]
         if m["steady_D_sharp"] is not None:
             metrics[f"steady_D_sharp_{key}"] = m["steady_D_sharp"]
+        if m["wall_seconds"] and m["steps"]:
+            # Issue 19's cost figure: wall seconds per unit of shear-rate x t on the run's
+            # rank count (ranks_<tag>), from the seconds per step of the run's last part (a
+            # run resumed from a checkpoint times only that part) times its steps per unit
+            # time. The records ran on a shared 2-core machine (load in record.json): loose.
+            metrics[f"wall_seconds_per_shear_time_{key}"] = (
+                m["wall_seconds"] / m["steps"] * m["final_step"] / m["t_end"])
+            metrics[f"ranks_{key}"] = m["ranks"]
         ref = steady_reference(ca, law, c)
         metrics[f"reached_end_{key}"] = int(abs(m["t_end"] - t_end) <= 1e-9)
         if ref is not None and eb == 0.0:
