@@ -331,12 +331,12 @@ def capsule_3d(ctx, cfg):
     # cached runs of the capsule_shear study (their own timer; d/16 ran on 1 rank, d/32 on
     # EFSI_VERIFY_RANKS: every row keeps its rank count). Series "efsi, Ca x" holds them and
     # the d/8 1-rank runs made here; "efsi 2 ranks, Ca 0.2" the d/8 2-rank runs.
-    # With EFSI_VERIFY_RECORDS=1 the committed records of those runs count too (a fresh
-    # build/ has no cache): completed() copies a finished record into the cache.
-    from _flowio import RECORDS, completed, record_dir
+    # With EFSI_VERIFY_RECORDS=1 (or only) the committed records of those runs count too (a
+    # fresh build/ has no cache): completed() copies a finished record into the cache.
+    from _flowio import RECORDS, completed, record_dir, records_mode
 
     names = {p.name for p in cache.glob("3d_n*_ca*_t2")}
-    if os.environ.get("EFSI_VERIFY_RECORDS") == "1":
+    if records_mode() in ("1", "only"):
         names |= {p.name for p in (RECORDS / "capsule_shear").glob("3d_n*_ca*_t2")}
     for name in sorted(names):
         # the neo-Hookean runs at the default width only (not the Skalak or width sweeps)
