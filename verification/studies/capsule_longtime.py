@@ -54,7 +54,7 @@ import numpy as np
 
 from _bounds import Bound
 from _flowio import USED_RECORDS, RunNotMade, body_series, cached_run, capsule_box_sets
-from capsule_shear import reference_curve, skalak_linear_theory
+from capsule_shear import read_curve, reference_curve, skalak_linear_theory
 
 DESCRIPTION = "capsules to steady state: t reached, steady D / angle, tr Gs, area, volume"
 
@@ -110,6 +110,80 @@ def steady_reference(ca: float, law: str, c):
     if law == "skalak":
         return skalak_linear_theory(ca, c)
     return STEADY_D_RP98.get(ca, 25.0 / 4.0 * ca)
+
+
+# Other steady values beside the bound's (reported, no bound): Doddi & Bagchi 2008 (front
+# tracking, digitised by D. Huet) and D. Huet's front-tracking runs in efsi's own 8a box with
+# walls (verification/data/README.md). Each curve's plateau is the mean of its points over the
+# last quarter of its time range, as steady_D is the run's.
+OTHER_REFERENCES = {"doddi_bagchi2008": "Doddi & Bagchi 2008",
+                    "huet_ft": "Huet, 8a box"}
+_REFERENCE_FILES = {"doddi_bagchi2008": "doddi_bagchi2008", "huet_ft": "huet_front_tracking"}
+
+
+def curve_plateau(curve) -> float:
+    """Mean D of a (t, D) curve (sorted by t) over the last quarter of its time range."""
+    t, d = curve[:, 0], curve[:, 1]
+    return float(np.mean(d[t >= t[0] + 0.75 * (t[-1] - t[0])]))
+
+
+def other_plateaus(ca: float) -> dict:
+    """{reference key: plateau D} for the neo-Hookean curves stored at this Ca."""
+    data = Path(__file__).resolve().parents[1] / "data" / "capsule_shear"
+    out = {}
+    for key, stem in _REFERENCE_FILES.items():
+        curve = read_curve(data / f"{stem}_ca{ca:g}.csv")
+        if curve is not None:
+            out[key] = curve_plateau(curve)
+    return out
+
+
+def references_table(metrics: dict) -> list:
+    """One row per neo-Hookean Ca without bending: efsi's steady D (moments of phi and the
+    phi = 1/2 body) at each grid the tier ran, the bound's published value and the other
+    references' plateaus, with efsi's d/32 differences; metrics gain the plateaus, the
+    spread of the published steady values (the bound's and Doddi & Bagchi's), how far efsi's
+    steady_D lies outside their range (0 inside it) and efsi's steady_D minus each other
+    reference."""
+    rows = []
+    for ca in sorted({r[0] for r in FULL_RUNS if r[1] == NEO and r[3] == 0.0}):
+        others = other_plateaus(ca)
+        row = {"Ca": ca}
+        for n in (16, 32):
+            key = tag(ca, n, NEO, None, 0.0)
+            for name, col in (("steady_D", "moments"), ("steady_D_sharp", "phi = 1/2 body")):
+                v = metrics.get(f"{name}_{key}")
+                row[f"efsi d/{n}, {col}"] = "-" if v is None else round(v, 4)
+        bound_ref = steady_reference(ca, NEO, None)
+        row["bound's value (RP98; 25/4 Ca at Ca <= 0.025)"] = round(bound_ref, 4)
+        published = [bound_ref]
+        for ref, label in OTHER_REFERENCES.items():
+            v = others.get(ref)
+            row[label] = "-" if v is None else round(v, 4)
+            if v is None:
+                continue
+            metrics[f"steady_D_{ref}_ca{ca:g}"] = v
+            if ref == "doddi_bagchi2008":
+                published.append(v)
+            for n in (16, 32):
+                key = tag(ca, n, NEO, None, 0.0)
+                if f"steady_D_{key}" in metrics:
+                    metrics[f"steady_D_minus_{ref}_{key}"] = metrics[f"steady_D_{key}"] - v
+        lo, hi = min(published), max(published)
+        metrics[f"published_steady_D_spread_ca{ca:g}"] = hi - lo
+        row["published spread"] = round(hi - lo, 4)
+        for n in (16, 32):
+            key = tag(ca, n, NEO, None, 0.0)
+            if f"steady_D_{key}" in metrics:
+                v = metrics[f"steady_D_{key}"]
+                metrics[f"steady_D_outside_published_{key}"] = max(lo - v, v - hi, 0.0)
+        d32 = metrics.get(f"steady_D_{tag(ca, 32, NEO, None, 0.0)}")
+        for label, v in (("bound's value", bound_ref),
+                         *((lbl, others.get(ref)) for ref, lbl in OTHER_REFERENCES.items())):
+            row[f"efsi d/32 moments minus {label}"] = (
+                "-" if d32 is None or v is None else round(d32 - v, 4))
+        rows.append(row)
+    return rows
 
 
 def area_tension_ratio(c: float, area_change: float, d: float) -> float:
@@ -282,6 +356,9 @@ def run(ctx):
                      "broken bounds": "; ".join(broken) or "none"})
     metrics["acceptance_failures"] = len(failures)
     metrics["runs_not_made"] = len(not_made)
+    tables = {"runs": rows}
+    if ctx.tier == "full":
+        tables["steady_D_references"] = references_table(metrics)
     notes = ("Targets of issue 19 (ACCEPTANCE): " + json.dumps(ACCEPTANCE)
              + ". Broken: " + ("; ".join(failures) if failures else "none") + ".")
     if not_made:
@@ -290,7 +367,7 @@ def run(ctx):
         notes += (" Taken from committed records (EFSI_VERIFY_RECORDS, verification/records/"
                   "capsule_longtime; the solver commit of each is in its summary.json): "
                   + ", ".join(USED_RECORDS) + ".")
-    result = {"metrics": metrics, "tables": {"runs": rows}, "notes": notes}
+    result = {"metrics": metrics, "tables": tables, "notes": notes}
     # A broken target is not an exception: the harness checks BOUNDS, marks the study
     # bounds_broken, names each bound and keeps the result (a miss is reported with numbers).
     return result

@@ -87,3 +87,46 @@ def test_a_run_neither_cached_nor_recorded_is_reported_as_not_made(tmp_path, mon
     assert "Not made" in result["notes"] and "ca0.2_n32" in result["notes"]
     bad = _bounds.broken(_bounds.evaluate(longtime.BOUNDS, result["metrics"], "ci"))
     assert any("runs_not_made" in str(v) for v in bad)
+
+
+def test_a_curve_plateau_is_the_mean_over_the_last_quarter_of_its_time_range():
+    import numpy as np
+    t = np.linspace(2.0, 10.0, 81)
+    d = np.where(t >= 8.0, 0.3, 0.1)
+    assert abs(longtime.curve_plateau(np.column_stack([t, d])) - 0.3) < 1e-15
+    d = np.where(t >= 8.0, 0.3, 0.1) + np.where(t > 9.0, 0.1, 0.0)
+    expected = float(np.mean(d[t >= 8.0]))
+    assert abs(longtime.curve_plateau(np.column_stack([t, d])) - expected) < 1e-15
+
+
+def test_every_neo_hookean_ca_has_both_other_references_stored():
+    for ca in (0.0125, 0.025, 0.05, 0.1, 0.2):
+        found = longtime.other_plateaus(ca)
+        assert set(found) == set(longtime.OTHER_REFERENCES), ca
+        assert all(0 < v < 1 for v in found.values())
+
+
+def test_the_references_table_reports_differences_and_adds_no_bound():
+    metrics = {"steady_D_ca0.05_n128": 0.30, "steady_D_sharp_ca0.05_n128": 0.31}
+    rows = longtime.references_table(metrics)
+    row = next(r for r in rows if r["Ca"] == 0.05)
+    assert row["efsi d/32, moments"] == 0.30 and row["efsi d/16, moments"] == "-"
+    others = longtime.other_plateaus(0.05)
+    for ref, label in longtime.OTHER_REFERENCES.items():
+        assert abs(metrics[f"steady_D_minus_{ref}_ca0.05_n128"] - (0.30 - others[ref])) < 1e-15
+        assert row[f"efsi d/32 moments minus {label}"] == round(0.30 - others[ref], 4)
+    assert "steady_D_minus_huet_ft_ca0.05_n64" not in metrics
+    spread = metrics["published_steady_D_spread_ca0.05"]
+    assert abs(spread - abs(others["doddi_bagchi2008"] - 0.26)) < 1e-15
+    # 0.30 lies above both published plateaus (0.26 and Doddi & Bagchi's ~0.28).
+    hi = max(0.26, others["doddi_bagchi2008"])
+    assert abs(metrics["steady_D_outside_published_ca0.05_n128"] - (0.30 - hi)) < 1e-15
+    inside = {"steady_D_ca0.05_n128": 0.5 * (0.26 + others["doddi_bagchi2008"])}
+    longtime.references_table(inside)
+    assert inside["steady_D_outside_published_ca0.05_n128"] == 0.0
+    # Reported only: no bound names these metrics.
+    import re
+    for b in longtime.BOUNDS:
+        assert not any(re.fullmatch(b.metric, k) for k in metrics
+                       if k.startswith(("steady_D_minus_", "published_", "steady_D_doddi", "steady_D_outside",
+                                        "steady_D_huet"))), b.metric
