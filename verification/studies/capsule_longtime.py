@@ -116,9 +116,28 @@ def steady_reference(ca: float, law: str, c):
 # tracking, digitised by D. Huet) and D. Huet's front-tracking runs in efsi's own 8a box with
 # walls (verification/data/README.md). Each curve's plateau is the mean of its points over the
 # last quarter of its time range, as steady_D is the run's.
+# Beside them, not published and not part of the published spread: the repository's own
+# boundary-integral capsule (reference/capsule_bi_3d.py: unbounded Stokes shear, triangulated
+# neo-Hookean membrane), recorded in verification/records/capsule_longtime/bi3d_s36 at several
+# mesh levels to t = 10; the finest level recorded at each Ca is the one reported (its plateau
+# over the last quarter, t = 7.5-10, the window of efsi's d/32 runs).
 OTHER_REFERENCES = {"doddi_bagchi2008": "Doddi & Bagchi 2008",
-                    "huet_ft": "Huet, 8a box"}
+                    "huet_ft": "Huet, 8a box",
+                    "bi3d": "BI 3D (reference/capsule_bi_3d.py, unbounded)"}
 _REFERENCE_FILES = {"doddi_bagchi2008": "doddi_bagchi2008", "huet_ft": "huet_front_tracking"}
+BI3D_RECORDS = Path(__file__).resolve().parents[1] / "records" / "capsule_longtime" / "bi3d_s36"
+
+
+def bi3d_curve(ca: float):
+    """(level, (t, D) curve) of the finest boundary-integral run recorded at this Ca that
+    reached t = 10, or (None, None)."""
+    for level in (6, 5, 4, 3, 2):
+        p = BI3D_RECORDS / f"bi3d_ca{ca:g}_L{level}.csv"
+        if p.exists():
+            a = np.genfromtxt(p, delimiter=",", names=True)
+            if a["t"][-1] >= 10.0 - 1e-9:
+                return level, np.column_stack([a["t"], a["D"]])
+    return None, None
 
 
 def curve_plateau(curve) -> float:
@@ -135,6 +154,9 @@ def other_plateaus(ca: float) -> dict:
         curve = read_curve(data / f"{stem}_ca{ca:g}.csv")
         if curve is not None:
             out[key] = curve_plateau(curve)
+    _, curve = bi3d_curve(ca)
+    if curve is not None:
+        out["bi3d"] = curve_plateau(curve)
     return out
 
 
@@ -169,6 +191,10 @@ def references_table(metrics: dict) -> list:
                 key = tag(ca, n, NEO, None, 0.0)
                 if f"steady_D_{key}" in metrics:
                     metrics[f"steady_D_minus_{ref}_{key}"] = metrics[f"steady_D_{key}"] - v
+        level, _ = bi3d_curve(ca)
+        if level is not None:
+            metrics[f"bi3d_level_ca{ca:g}"] = level
+            row["BI 3D level"] = level
         lo, hi = min(published), max(published)
         metrics[f"published_steady_D_spread_ca{ca:g}"] = hi - lo
         row["published spread"] = round(hi - lo, 4)
