@@ -116,30 +116,33 @@ class Membrane:
         return A, N
 
 
-def velocity(x, mem, mu, gamma, subtract=True, chunk=256):
+def velocity(x, mem, mu, gamma, subtract=True, chunk=1024):
     F = mem.load(x)
     A, N = mem.nodal_area_normal(x)
     f = F / A[:, None]
-    fn = np.einsum("ni,ni->n", f, N)
+    fn = np.einsum("ni,ni->n", f, N) if subtract else np.zeros(len(x))
     AN = A[:, None] * N
+    x2 = np.einsum("ni,ni->n", x, x)
+    xF = np.einsum("ni,ni->n", x, F)
+    xAN = np.einsum("ni,ni->n", x, AN)
     u = np.zeros_like(x)
     for s in range(0, len(x), chunk):
-        r = x[s:s + chunk, None, :] - x[None, :, :]  # (c, n, 3)
-        r2 = np.einsum("cni,cni->cn", r, r)
-        idx = np.arange(s, min(s + chunk, len(x)))
-        r2[idx - s, idx] = np.inf  # own node: analytic patch below
-        inv = 1 / np.sqrt(r2)
-        if subtract:
-            # int_S G(x_i - y) n(y) dS(y) = 0: subtract the target's normal load density
-            # times n(y) from every source, which leaves a smooth integrand for the normal part
-            W = F[None, :, :] - fn[s:s + chunk, None, None] * AN[None, :, :]
-        else:
-            W = np.broadcast_to(F, r.shape)
-        rW = np.einsum("cni,cni->cn", r, W)
-        u[s:s + chunk] = (np.einsum("cn,cni->ci", inv, W)
-                          + np.einsum("cn,cni->ci", rW * inv ** 3, r))
+        e = min(s + chunk, len(x))
+        xs = x[s:e]
+        # r_ij = x_i - x_j; |r|^2 from the Gram matrix (BLAS), the own node excluded
+        r2 = x2[s:e, None] + x2[None, :] - 2 * xs @ x.T
+        r2[np.arange(e - s), np.arange(s, e)] = np.inf
+        inv = 1 / np.sqrt(np.maximum(r2, 1e-300))
+        inv3 = inv ** 3
+        # source W_j = F_j - fn_i A_j n_j (int_S G(x_i - y) n(y) dS(y) = 0 takes the
+        # target's normal load density out of the integrand)
+        # r.W = (x_i.F_j - x_j.F_j) - fn_i (x_i.(AN)_j - x_j.(AN)_j)
+        rW = (xs @ F.T - xF[None, :]) - fn[s:e, None] * (xs @ AN.T - xAN[None, :])
+        w = rW * inv3
+        u[s:e] = (inv @ F - fn[s:e, None] * (inv @ AN)
+                  + xs * w.sum(1)[:, None] - w @ x)
     R = np.sqrt(A / np.pi)
-    fs = f - fn[:, None] * N if subtract else f  # what is left of the own patch's density
+    fs = f - fn[:, None] * N  # what is left of the own patch's density
     fsn = np.einsum("ni,ni->n", fs, N)
     u += np.pi * R[:, None] * (3 * fs - fsn[:, None] * N)  # pi R (2 I + P) f
     u /= 8 * np.pi * mu
