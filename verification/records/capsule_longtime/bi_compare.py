@@ -104,6 +104,7 @@ def main():
     levels = [lv for lv in (3, 4) if any(bi3_curve(ca, lv) is not None
                                           for ca in (0.0125, 0.025, 0.05, 0.1, 0.2))]
     header += [f"BI 3D level {lv} (t = 10)" for lv in levels]
+    header += ["BI finest level: volume change at t = 10"]
     header += ["RP98 (bound)", "Doddi & Bagchi 2008", "Huet, 8a box"]
     rows = []
     for ca in (0.0125, 0.025, 0.05, 0.1, 0.2):
@@ -116,6 +117,13 @@ def main():
         for lv in levels:
             c = bi3_curve(ca, lv)
             row.append("-" if c is None or c[-1, 0] < 9.99 else f"{curve_plateau(c):.4f}")
+        finest = [lv for lv in levels if bi3_curve(ca, lv) is not None]
+        if finest:
+            v = np.genfromtxt(BI3 / f"bi3d_ca{ca:g}_L{finest[-1]}.csv", delimiter=",",
+                              names=True)["volume"]
+            row.append(f"{v[-1] / v[0] - 1:+.1e} (level {finest[-1]})")
+        else:
+            row.append("-")
         others = other_plateaus(ca)
         row += [f"{steady_reference(ca, 'neo_hookean', None):.4f}",
                 *(f"{others[k]:.4f}" if k in others else "-"
