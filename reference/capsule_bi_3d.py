@@ -32,7 +32,8 @@ Discretisation
 D and the inclination: second moments of the enclosed volume (the polyhedron's
 tetrahedra from its centroid), the in-plane pair of principal axes (as efsi's
 ``taylor_deformation_sharp``), and also Huet's (r_max - r_min)/(r_max + r_min) over the
-nodes' distances from the centroid.
+nodes' distances from the centroid. The output also has the enclosed volume and the
+membrane's area (the sum of its triangles').
 
     /usr/bin/python3 reference/capsule_bi_3d.py --Ca 0.2 --level 3 --t-end 3
 """
@@ -172,6 +173,11 @@ def shape(x, tri):
     return D, theta / np.pi, D_huet, V
 
 
+def area(x, tri):
+    a, b, c = x[tri[:, 0]], x[tri[:, 1]], x[tri[:, 2]]
+    return 0.5 * np.linalg.norm(np.cross(b - a, c - a), axis=1).sum()
+
+
 def run(Ca, level, t_end, cfl, mu=1.0, gamma=1.0, a=1.0, out=None, every=0.05):
     Es = mu * gamma * a / Ca
     X, tri = icosphere(level)
@@ -183,7 +189,7 @@ def run(Ca, level, t_end, cfl, mu=1.0, gamma=1.0, a=1.0, out=None, every=0.05):
     x = X.copy()
     t, rows = 0.0, []
     D, th, Dh, V0 = shape(x, tri)
-    rows.append((0.0, D, th, Dh, V0))
+    rows.append((0.0, D, th, Dh, V0, area(x, tri)))
     t0 = time.time()
     nsteps = int(np.ceil(t_end / dt - 1e-9))
     dt = t_end / nsteps
@@ -198,14 +204,14 @@ def run(Ca, level, t_end, cfl, mu=1.0, gamma=1.0, a=1.0, out=None, every=0.05):
             D, th, Dh, V = shape(x, tri)
             if not np.isfinite(D):
                 raise SystemExit(f"unstable at t = {t}")
-            rows.append((t, D, th, Dh, V))
+            rows.append((t, D, th, Dh, V, area(x, tri)))
             next_out += every
             print(f"t {t:.3f} D {D:.4f} theta/pi {th:.4f} D_huet {Dh:.4f} volume drift {V / V0 - 1:+.2e}"
                   f" ({time.time() - t0:.0f} s)", file=sys.stderr, flush=True)
     if out:
         out.mkdir(parents=True, exist_ok=True)
         np.savetxt(out / f"bi3d_ca{Ca:g}_L{level}.csv", np.array(rows), delimiter=",",
-                   header="t,D,theta_over_pi,D_rmax_rmin,volume", comments="")
+                   header="t,D,theta_over_pi,D_rmax_rmin,volume,area", comments="")
     return {"Ca": Ca, "level": level, "nodes": len(X), "dt": dt, "h_min": h,
             "D_final": rows[-1][1], "seconds": time.time() - t0}
 

@@ -16,30 +16,17 @@ with the markers' own reference positions.
         --set time.end_time=2.0 --set output.fields_interval=0.02   (d/16; d/32: 128 cells, 0.04)
     /usr/bin/python3 verification/records/capsule_longtime/markers.py RUN --level 5 --substeps 8
 """
-import argparse, os, h5py, numpy as np
+import argparse
+import os
+import sys
+from pathlib import Path
+
+import h5py
+import numpy as np
 from scipy.ndimage import map_coordinates
 
-
-def icosphere(level):
-    t = (1 + 5 ** 0.5) / 2
-    v = [(-1, t, 0), (1, t, 0), (-1, -t, 0), (1, -t, 0), (0, -1, t), (0, 1, t), (0, -1, -t), (0, 1, -t),
-         (t, 0, -1), (t, 0, 1), (-t, 0, -1), (-t, 0, 1)]
-    f = [(0, 11, 5), (0, 5, 1), (0, 1, 7), (0, 7, 10), (0, 10, 11), (1, 5, 9), (5, 11, 4), (11, 10, 2),
-         (10, 7, 6), (7, 1, 8), (3, 9, 4), (3, 4, 2), (3, 2, 6), (3, 6, 8), (3, 8, 9), (4, 9, 5), (2, 4, 11),
-         (6, 2, 10), (8, 6, 7), (9, 8, 1)]
-    v = [np.array(p, float) / np.linalg.norm(p) for p in v]
-    for _ in range(level):
-        cache, nf = {}, []
-        def mid(a, b):
-            k = (min(a, b), max(a, b))
-            if k not in cache:
-                m = v[a] + v[b]; v.append(m / np.linalg.norm(m)); cache[k] = len(v) - 1
-            return cache[k]
-        for a, b, c in f:
-            ab, bc, ca = mid(a, b), mid(b, c), mid(c, a)
-            nf += [(a, ab, ca), (b, bc, ab), (c, ca, bc), (ab, bc, ca)]
-        f = nf
-    return np.array(v), np.array(f)
+sys.path.insert(0, str(Path(__file__).resolve().parents[3] / "reference"))
+from capsule_bi_3d import icosphere, shape  # noqa: E402  (the same mesh and D as the BI)
 
 
 class Snap:
@@ -82,23 +69,6 @@ def tri_strain(X, x, f):
     return B, Acur / Aref
 
 
-def poly_D(x, f):
-    # volume second moments of the closed polyhedron (tetrahedra from the origin)
-    a, b, c = x[f[:, 0]], x[f[:, 1]], x[f[:, 2]]
-    vol = np.einsum('ti,ti->t', a, np.cross(b, c)) / 6
-    cen = (a + b + c) / 4
-    V = vol.sum(); cg = (vol[:, None] * cen).sum(0) / V
-    a, b, c = a - cg, b - cg, c - cg
-    vol = np.einsum('ti,ti->t', a, np.cross(b, c)) / 6
-    S = a + b + c
-    I = (np.einsum('t,ti,tj->ij', vol, S, S) + np.einsum('t,ti,tj->ij', vol, a, a)
-         + np.einsum('t,ti,tj->ij', vol, b, b) + np.einsum('t,ti,tj->ij', vol, c, c)) / 20
-    ev, evec = np.linalg.eigh(I / V)
-    o = np.argsort(np.abs(evec[2, :]))
-    ip = sorted(ev[o[:2]])
-    return (np.sqrt(ip[1]) - np.sqrt(ip[0])) / (np.sqrt(ip[1]) + np.sqrt(ip[0])), V
-
-
 def main():
     ap = argparse.ArgumentParser()
     ap.add_argument('run'); ap.add_argument('--level', type=int, default=5)
@@ -137,7 +107,7 @@ def main():
         nm = np.cross(x[F[:, 1]] - x[F[:, 0]], x[F[:, 2]] - x[F[:, 0]]); nm /= np.linalg.norm(nm, axis=1)[:, None]
         nGn = np.einsum('ti,tij,tj->t', nm, G, nm)
         ph = cur.centre(cur.phi, x)
-        D, Vol = poly_D(x, F)
+        D, _, _, Vol = shape(x, F)
         d1 = trB - trG; d2 = Jm / JG - 1
         print(f'{t1:.2f} {D:.4f} {Vol:.4f} {ph.mean():.4f} {np.abs(ph - .5).max():.4f}  {d1.mean():+.4f} {np.sqrt((d1**2).mean()):.4f}  '
               f'{d2.mean():+.4f} {np.sqrt((d2**2).mean()):.4f}  {np.abs(nGn).max():.3f}  trB[mean,max] {trB.mean():.3f} {trB.max():.3f} trG {trG.mean():.3f} {trG.max():.3f}', flush=True)
