@@ -6,7 +6,11 @@ ranks. Weak scaling: the box grows with the ranks along x (N x N x N cells per r
 capsule case gets one capsule per rank, spaced along x, so the membrane work per rank is
 constant too. Per run: wall time, cell updates per second per rank, parallel efficiency
 against 1 rank, and the time of each stage (summary.json "stages") so the dominant stage is
-visible.
+visible. The efficiency (`<kind>_efficiency_<problem>_np<p>`, and the bound on 2 ranks)
+compares seconds per step of the time stepping, wall_seconds less the one-off end-of-run
+checkpoint, as the throughput study does: in a 20-step run the checkpoint (0.15-0.2 s at
+128^3, 10 % of the run) would weigh as it never does in a production run; the same ratio
+from the whole wall time is reported beside it (`..._wall`).
 
 The machine this runs on in CI and development has 2 cores: runs with more ranks than
 cores are oversubscribed and flagged `oversubscribed = 1`; their efficiency measures the
@@ -64,7 +68,8 @@ BOUNDS = [
     Bound(r"cell_updates_per_second_per_rank_.*", ">=", 1.0,
           "every run of the sweep finished and was timed"),
     Bound(r"strong_efficiency_flow_np2", ">=", 0.9,
-          "2 ranks at least 1.8x faster than 1 on an idle machine (issue 22)", tiers=("full",)),
+          "2 ranks at least 1.8x faster than 1 on an idle machine, per step of the time "
+          "stepping (issue 22)", tiers=("full",)),
     Bound(r"seconds_per_step_rbc.*", ">=", 1e-6,
           "every run of the red-cell sweep finished and was timed"),
     Bound(r"red_cells_missing", "==", 0,
@@ -78,14 +83,17 @@ BOUNDS = [
           tiers=("quick", "full")),
 ]
 
-# Per tier: cells per direction per rank-1 problem (flow, capsule), steps, rank counts.
+# Per tier: cells per direction per rank-1 problem (flow, capsule), steps, rank counts, and
+# runs per point (the fastest kept by its stepping seconds, as the throughput study keeps
+# the best of its runs: a 20-step run of 1-2 s on this shared 2-core machine scatters by
+# 10 %, always towards slower).
 # The capsule's membrane (normal extension of Gs, the default) needs every rank's block to
 # be at least 10 cells wide, so its box is 24 (ci) and 48 (quick) cells: 12 per rank at
 # the most ranks of the tier.
 TIERS = {
-    "ci": {"flow_n": 16, "capsule_n": 24, "steps": 3, "ranks": [1, 2]},
-    "quick": {"flow_n": 64, "capsule_n": 48, "steps": 10, "ranks": [1, 2, 4]},
-    "full": {"flow_n": 128, "capsule_n": 64, "steps": 20, "ranks": [1, 2, 4]},
+    "ci": {"flow_n": 16, "capsule_n": 24, "steps": 3, "ranks": [1, 2], "repeats": 1},
+    "quick": {"flow_n": 64, "capsule_n": 48, "steps": 10, "ranks": [1, 2, 4], "repeats": 1},
+    "full": {"flow_n": 128, "capsule_n": 64, "steps": 20, "ranks": [1, 2, 4], "repeats": 3},
 }
 # The body part: red-cell counts (None: the case's fill to Ht 20 %), steps, repeats per run
 # (the fastest kept), and whether the wall-alone run is made.
@@ -116,13 +124,29 @@ def capsule_case(base: str, n: int, ranks: int, weak: bool) -> str:
     return t.replace("[output]", "".join(bodies) + "[output]")
 
 
-def one(ctx, case, out, ranks, sets) -> dict:
+def one(ctx, case, out, ranks, sets, repeats: int = 1) -> dict:
+    """The fastest of `repeats` runs (by stepping seconds)."""
+    best = None
+    for k in range(repeats):
+        row = one_run(ctx, case, out if k == 0 else out.with_name(f"{out.name}_run{k}"),
+                      ranks, sets)
+        if best is None or row["stepping_seconds"] < best["stepping_seconds"]:
+            best = row
+    best["repeats"] = repeats
+    return best
+
+
+def one_run(ctx, case, out, ranks, sets) -> dict:
     load = os.getloadavg()[0]
     s = ctx.run_efsi(case, out, ranks=ranks, sets={**COMMON, **sets})
     wall = s["wall_seconds"]
     cells = s["cells"]
+    # The time stepping alone, as the throughput study measures it: the wall time less the
+    # one-off end-of-run checkpoint (and any field output), which a 20-step run would
+    # otherwise spread over its few steps.
+    stepping = wall - s["stages"].get("checkpoint", 0.0) - s["stages"].get("output", 0.0)
     return {"ranks": ranks, "decomposition": s["ranks_per_dim"], "cells": cells,
-            "steps": s["steps"], "wall_seconds": wall,
+            "steps": s["steps"], "wall_seconds": wall, "stepping_seconds": stepping,
             "cell_updates_per_second_per_rank": s["cell_updates_per_second"] / ranks,
             "oversubscribed": int(ranks > (os.cpu_count() or 1)), "loadavg_before": load,
             "stages": s["stages"],
@@ -148,22 +172,27 @@ def run_ranks(ctx):
                     sets = {"grid.cells": f"[{nx},{n},{n}]", "time.max_steps": steps}
                     if kind == "weak":  # keep h: the box grows with the cells
                         sets["grid.length"] = f"[{6.283185307179586 * r!r},6.283185307179586,6.283185307179586]"
-                    row = one(ctx, "cases/taylor_green_3d", out, r, sets)
+                    row = one(ctx, "cases/taylor_green_3d", out, r, sets, cfg["repeats"])
                 else:
                     case = ctx.outdir / f"capsule_{kind}_np{r}.toml"
                     case.write_text(capsule_case(base, cfg["capsule_n"], r, kind == "weak"))
-                    row = one(ctx, case, out, r, {"time.max_steps": steps})
+                    row = one(ctx, case, out, r, {"time.max_steps": steps}, cfg["repeats"])
                 row.update(problem=problem, kind=kind)
                 rows.append(row)
     for kind in ("strong", "weak"):
         for problem in ("flow", "capsule"):
             sel = [x for x in rows if x["kind"] == kind and x["problem"] == problem]
-            t1 = sel[0]["wall_seconds"] / sel[0]["steps"]
+            t1 = sel[0]["stepping_seconds"] / sel[0]["steps"]
+            t1_wall = sel[0]["wall_seconds"] / sel[0]["steps"]
             for x in sel:
-                per_step = x["wall_seconds"] / x["steps"]
+                per_step = x["stepping_seconds"] / x["steps"]
+                per_step_wall = x["wall_seconds"] / x["steps"]
                 # strong: T1 / (p Tp); weak: T1 / Tp (work per rank constant)
-                x["efficiency"] = t1 / (x["ranks"] * per_step) if kind == "strong" else t1 / per_step
+                p = x["ranks"] if kind == "strong" else 1
+                x["efficiency"] = t1 / (p * per_step)
+                x["efficiency_wall"] = t1_wall / (p * per_step_wall)
                 metrics[f"{kind}_efficiency_{problem}_np{x['ranks']}"] = x["efficiency"]
+                metrics[f"{kind}_efficiency_{problem}_np{x['ranks']}_wall"] = x["efficiency_wall"]
                 metrics[f"cell_updates_per_second_per_rank_{problem}_{kind}_np{x['ranks']}"] = \
                     x["cell_updates_per_second_per_rank"]
     fig, ax = plt.subplots(1, 3, figsize=(15, 4))
@@ -200,7 +229,11 @@ def run_ranks(ctx):
                       "oversubscribed (flagged). Flow: cases/taylor_green_3d, "
                       f"{cfg['flow_n']}^3 per rank-1 problem; capsule: cases/capsule_shear at "
                       f"Ca 0.2, {cfg['capsule_n']}^3 per capsule box; {steps} steps each. "
-                      "Efficiency: strong T1/(p Tp), weak T1/Tp (per step). Timings taken "
+                      f"The fastest of {cfg['repeats']} runs per point. "
+                      "Efficiency: strong T1/(p Tp), weak T1/Tp, T the seconds per step of "
+                      "the time stepping (wall less the one-off end-of-run checkpoint, as in "
+                      "the throughput study); *_wall: the same from the whole wall time. "
+                      "Timings taken "
                       "while other jobs ran are scattered; loadavg_before is recorded per run.")}
 
 
