@@ -478,6 +478,7 @@ bool Simulation::finished() const {
 
 void Simulation::log_start() {
     start_ = std::chrono::steady_clock::now();
+    time_at_start_ = state_->time;
     log(fmt::format("efsi: case '{}' on {} rank(s) ({}x{}x{}), grid {}x{}x{} ({}D), dx = {:.4g} {}",
                     cfg_.name, dec_->size(), dec_->ranks_per_dim()[0], dec_->ranks_per_dim()[1],
                     dec_->ranks_per_dim()[2], cfg_.grid.cells[0], cfg_.grid.cells[1],
@@ -524,9 +525,12 @@ void Simulation::log_progress(const TimeStepChoice& choice, const StepReport& r)
     const FlowState& s = *state_;
     if (!(s.step % cfg_.output.progress_every == 0 || finished())) return;
     const double wall = wall_seconds();
-    const double frac = (s.time) / cfg_.time.end_time;
+    const double frac = s.time / cfg_.time.end_time;
+    // The remaining wall time at this run's pace: a restarted run measures its progress from
+    // the time it restarted at, not from t = 0.
+    const double done = (s.time - time_at_start_) / (cfg_.time.end_time - time_at_start_);
     const double eta =
-        steps_this_run_ > 0 && frac > 0 ? wall * (1 - frac) / std::max(1e-12, frac - 0.0) : 0.0;
+        steps_this_run_ > 0 && done > 0 ? wall * (1 - done) / std::max(1e-12, done) : 0.0;
     log(fmt::format("step {:7d}  t = {:.4e} {} ({:5.1f}%)  dt = {:.3e} [{}]  div = {:.1e}  "
                     "KE = {:.4e}  p-its {:3d}  ETA {:.0f} s (wall)",
                     s.step, s.time, cfg_.time_unit, 100 * frac, choice.dt, choice.limited_by,

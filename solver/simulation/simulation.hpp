@@ -101,6 +101,7 @@ class Simulation {
     Diagnostics last_;
     std::string last_limited_by_; ///< the limit that set the last step's dt
     long steps_this_run_ = 0;
+    double time_at_start_ = 0;        ///< simulated time where this run began (> 0 after a restart)
     std::vector<double> load_before_; ///< /proc/loadavg at the start of run()
     std::chrono::steady_clock::time_point start_;
 };
