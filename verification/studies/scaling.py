@@ -124,6 +124,14 @@ def capsule_case(base: str, n: int, ranks: int, weak: bool) -> str:
     return t.replace("[output]", "".join(bodies) + "[output]")
 
 
+def stepping_seconds(summary: dict) -> float:
+    """The time stepping alone, as the throughput study measures it: the wall time less the
+    one-off end-of-run checkpoint and any field output, which a run of a few steps would
+    otherwise spread over them."""
+    stages = summary["stages"]
+    return summary["wall_seconds"] - stages.get("checkpoint", 0.0) - stages.get("output", 0.0)
+
+
 def one(ctx, case, out, ranks, sets, repeats: int = 1) -> dict:
     """The fastest of `repeats` runs (by stepping seconds)."""
     best = None
@@ -141,10 +149,7 @@ def one_run(ctx, case, out, ranks, sets) -> dict:
     s = ctx.run_efsi(case, out, ranks=ranks, sets={**COMMON, **sets})
     wall = s["wall_seconds"]
     cells = s["cells"]
-    # The time stepping alone, as the throughput study measures it: the wall time less the
-    # one-off end-of-run checkpoint (and any field output), which a 20-step run would
-    # otherwise spread over its few steps.
-    stepping = wall - s["stages"].get("checkpoint", 0.0) - s["stages"].get("output", 0.0)
+    stepping = stepping_seconds(s)
     return {"ranks": ranks, "decomposition": s["ranks_per_dim"], "cells": cells,
             "steps": s["steps"], "wall_seconds": wall, "stepping_seconds": stepping,
             "cell_updates_per_second_per_rank": s["cell_updates_per_second"] / ranks,
@@ -257,7 +262,7 @@ def body_run(ctx, label: str, count, steps: int, repeats: int, wall_alone: bool 
         out = ctx.outdir / f"bodies_{label}_run{rep}"
         s = ctx.run_efsi("cases/capillary_coarse", out, sets=sets)
         stages = s["stages"]
-        stepping = s["wall_seconds"] - stages.get("checkpoint", 0.0) - stages.get("output", 0.0)
+        stepping = stepping_seconds(s)
         body = body_stage_seconds(stages)
         rbc = [b for b in s["bodies"] if b["name"].startswith("rbc_")]
         plt_ = [b for b in s["bodies"] if b["name"].startswith("platelet_")]
