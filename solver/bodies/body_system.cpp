@@ -21,9 +21,25 @@ namespace efsi {
 
 namespace {
 
-/// Every cell with phi above this counts as occupied when fitting a patch: 0, so a patch
-/// never drops volume (VOF residues below its epsilon do not move, so tails cannot creep).
-constexpr real occupied_threshold = 0;
+/// A cell counts as occupied when its phi exceeds the VOF's epsilon: below it a cell has no
+/// outflux (VofOptions::epsilon), so its value is a residue that stays where the body was.
+constexpr real occupied_threshold = VofOptions{}.epsilon;
+/// Residues farther than this (cells) from the occupied box are dropped after each step,
+/// their volume put back on the band (BodySystem::drop_residues). One cell: a step moves
+/// phi at most one cell per direction, so nothing beyond it can be reached in the next
+/// step, and it lies inside the patch for every margin (>= 2, moves at margin / 2).
+constexpr int residue_reach = 1;
+
+/// Whether global index p lies within `r` cells of [lo, hi) along a direction of n cells.
+bool near_interval(int p, int lo, int hi, int n, bool periodic, int r) {
+    auto in = [&](int q) { return q >= lo - r && q < hi + r; };
+    return in(p) || (periodic && (in(p - n) || in(p + n)));
+}
+
+std::int64_t cells_of(const Box& b) {
+    const Int3 n = b.size();
+    return std::int64_t(n[0]) * n[1] * n[2];
+}
 
 } // namespace
 
@@ -130,23 +146,63 @@ void BodySystem::initialise_body(std::size_t i) {
 
 Box BodySystem::occupied_box(const Body& b) const {
     const int big = std::numeric_limits<int>::max() / 2;
-    std::array<real, 6> ext{real(big), real(big), real(big), real(-big), real(-big), real(-big)};
+    std::array<real, 3> lo{real(big), real(big), real(big)}, hi{0, 0, 0};
     const Int3 off = dec_.block().offset;
     if (!b.patch().empty())
         for_each_in(b.phi().owned(), [&](int i, int j, int k) {
             if (b.phi()(i, j, k) <= occupied_threshold) return;
             const Int3 p = Int3{i, j, k} + off;
             for (int d = 0; d < 3; ++d) {
-                ext[d] = std::min(ext[d], real(p[d]));
-                ext[3 + d] = std::max(ext[3 + d], real(p[d] + 1));
+                lo[d] = std::min(lo[d], real(p[d]));
+                hi[d] = std::max(hi[d], real(p[d] + 1));
             }
         });
+    // min(lo) as -max(-lo): two reductions of three values.
+    for (real& v : lo)
+        v = -v;
+    const std::array<real, 3> neg_lo = dec_.max(lo), top = dec_.max(hi);
     Box box;
     for (int d = 0; d < 3; ++d) {
-        box.lo[d] = int(dec_.min(ext[d]));
-        box.hi[d] = int(dec_.max(ext[3 + d]));
+        box.lo[d] = int(-neg_lo[d]);
+        box.hi[d] = int(top[d]);
     }
     return box;
+}
+
+real BodySystem::drop_residues(Body& body, const Box& occ) {
+    const GlobalGrid& g = dec_.grid();
+    const Int3 off = dec_.block().offset;
+    Field& phi = body.phi();
+    real dropped = 0;
+    if (!body.patch().empty())
+        for_each_in(phi.owned(), [&](int i, int j, int k) {
+            const Int3 p = Int3{i, j, k} + off;
+            for (int d = 0; d < g.dim; ++d)
+                if (!near_interval(p[d], occ.lo[d], occ.hi[d], g.cells[d], dec_.periodic()[d],
+                                   residue_reach)) {
+                    dropped += phi(i, j, k);
+                    phi(i, j, k) = 0;
+                    return;
+                }
+        });
+    dropped = dec_.sum(dropped);
+    if (dropped == 0) return 0;
+    // Back on the band, in proportion to phi (1 - phi): conservative to round-off, and
+    // (dropped ~1e-8 per cell against a band of O(1) per cell) far below any other error.
+    real band = 0;
+    if (!body.patch().empty())
+        for_each_in(phi.owned(),
+                    [&](int i, int j, int k) { band += phi(i, j, k) * (1 - phi(i, j, k)); });
+    band = dec_.sum(band);
+    if (band > 0) {
+        const real c = dropped / band;
+        if (!body.patch().empty())
+            for_each_in(phi.owned(), [&](int i, int j, int k) {
+                phi(i, j, k) += c * phi(i, j, k) * (1 - phi(i, j, k));
+            });
+    }
+    halos_.fill(phi, body.patch());
+    return band > 0 ? 0 : dropped * g.cell_volume();
 }
 
 void BodySystem::track_patches(bool force) {
@@ -160,7 +216,12 @@ void BodySystem::track_patches(bool force) {
                 fmt::print("warning: body '{}' occupies no cell\n", body.name());
             continue;
         }
-        // Move when the body comes within m/2 cells of its patch edge (or when forced).
+        if (!force) clipped_[i] += drop_residues(body, occ);
+        // Move when the body comes within m/2 cells of its patch edge, or when the patch is
+        // more than twice the box it would be fitted to now (it wrapped a periodic direction
+        // that the body has since left), or when forced. Decided on the unwidened boxes, so
+        // the moves do not depend on the rank layout; and since nothing is stored beyond the
+        // residue reach (< m/2), a move changes what is stored, never a value the step sees.
         Box needed = occ, wanted = occ;
         for (int d = 0; d < dec_.dim(); ++d) {
             needed.lo[d] -= m / 2;
@@ -168,9 +229,12 @@ void BodySystem::track_patches(bool force) {
             wanted.lo[d] -= m;
             wanted.hi[d] += m;
         }
-        const Patch candidate = make_patch(needed, dec_);
-        if (!force && body.patch().global.contains(candidate.global)) continue;
-        body.move_to(make_patch(wanted, dec_));
+        const Box& fitted = body.patch().fitted;
+        const Patch target = make_patch(wanted, dec_);
+        if (!force && fitted.contains(make_patch(needed, dec_, 0).fitted) &&
+            cells_of(fitted) <= 2 * cells_of(target.fitted))
+            continue;
+        body.move_to(target);
         halos_.fill(body.phi(), body.patch());
     }
 }

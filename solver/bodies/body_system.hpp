@@ -86,7 +86,13 @@ class BodySystem {
     bool empty() const { return bodies_.empty(); }
 
   private:
+    /// The global box of the cells with phi above the VOF's epsilon (collective).
     Box occupied_box(const Body& b) const;
+    /// Zero the residues (phi <= epsilon, which never move) farther than one cell from
+    /// `occ` and put their volume back on the band, phi += c phi (1 - phi): a moving body
+    /// then stores no trail, whatever its patch or the rank layout (collective). Returns
+    /// the volume it could not put back (no band), 0 otherwise.
+    real drop_residues(Body& body, const Box& occ);
     void initialise_body(std::size_t i);
 
     const Config& cfg_;

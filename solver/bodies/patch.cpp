@@ -10,17 +10,19 @@ Patch make_patch(const Box& box, const Decomposition& dec, int halo_width) {
     for (int d = 0; d < 3; ++d) {
         const int n = g.cells[d];
         if (d >= g.dim) {
-            p.global.lo[d] = 0;
-            p.global.hi[d] = n;
+            p.global.lo[d] = p.fitted.lo[d] = 0;
+            p.global.hi[d] = p.fitted.hi[d] = n;
             continue;
         }
         const bool wraps = box.lo[d] < 0 || box.hi[d] > n;
         if (dec.periodic()[d] && (wraps || box.hi[d] - box.lo[d] >= n)) {
-            p.global.lo[d] = 0;
-            p.global.hi[d] = n;
+            p.global.lo[d] = p.fitted.lo[d] = 0;
+            p.global.hi[d] = p.fitted.hi[d] = n;
         } else {
             p.global.lo[d] = std::max(0, box.lo[d]);
             p.global.hi[d] = std::min(n, box.hi[d]);
+            p.fitted.lo[d] = p.global.lo[d];
+            p.fitted.hi[d] = p.global.hi[d];
             // Every rank the box touches must own at least `halo_width` layers of it, or
             // the slab a neighbour expects would not exist. Blocks are uniform, so every
             // rank widens the box identically.

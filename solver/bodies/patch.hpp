@@ -17,7 +17,11 @@
 namespace efsi {
 
 struct Patch {
-    Box global; ///< global cell indices, the same on every rank
+    /// The asked box, wrapped and clipped but not widened: the same on every rank AND for
+    /// every rank layout (decisions about moving a patch are made on it, and a checkpoint
+    /// stores it).
+    Box fitted;
+    Box global; ///< global cell indices (fitted, widened for the layout), the same on every rank
     Box local;  ///< block-local indices of the part this rank owns (may be empty)
     /// Exchange halos with the neighbour on [direction][side].
     std::array<std::array<bool, 2>, 3> exchange{};

@@ -181,6 +181,14 @@ void write_checkpoint(const fs::path& file, const Decomposition& dec, const Flow
                     attrs.emplace_back(base + "lo" + std::to_string(d), b->patch().global.lo[d]);
                     attrs.emplace_back(base + "hi" + std::to_string(d), b->patch().global.hi[d]);
                 }
+                // The unwidened box the moves are decided on (a restart moves its patches
+                // when the run it continues would have).
+                for (int d = 0; d < 3; ++d) {
+                    attrs.emplace_back(base + "fitted_lo" + std::to_string(d),
+                                       b->patch().fitted.lo[d]);
+                    attrs.emplace_back(base + "fitted_hi" + std::to_string(d),
+                                       b->patch().fitted.hi[d]);
+                }
             }
             for (const auto& [k, v] : attrs)
                 f.write_attribute(k, v);
@@ -278,6 +286,13 @@ void read_checkpoint(const fs::path& file, const Decomposition& dec, FlowState& 
                     const std::string k = base + side + std::to_string(d);
                     attrs.emplace_back(k, f.read_attribute(k));
                 }
+            // Checkpoints before session 38 have no fitted box: the stored one serves.
+            if (f.has_attribute(base + "fitted_lo0"))
+                for (int d = 0; d < 3; ++d)
+                    for (const char* side : {"fitted_lo", "fitted_hi"}) {
+                        const std::string k = base + side + std::to_string(d);
+                        attrs.emplace_back(k, f.read_attribute(k));
+                    }
         }
         // Same order as written: lo0 hi0 lo1 hi1 ...
         if (hex(attributes_checksum(attrs, stored)) !=
@@ -291,7 +306,17 @@ void read_checkpoint(const fs::path& file, const Decomposition& dec, FlowState& 
                 box.lo[d] = int(f.read_attribute(base + "lo" + std::to_string(d)));
                 box.hi[d] = int(f.read_attribute(base + "hi" + std::to_string(d)));
             }
-            b->allocate(make_patch(box, dec));
+            // The stored (widened) box, widened again for this layout: it holds every value
+            // written. The moves follow the stored fitted box.
+            Patch patch = make_patch(box, dec);
+            if (f.has_attribute(base + "fitted_lo0"))
+                for (int d = 0; d < 3; ++d) {
+                    patch.fitted.lo[d] =
+                        int(f.read_attribute(base + "fitted_lo" + std::to_string(d)));
+                    patch.fitted.hi[d] =
+                        int(f.read_attribute(base + "fitted_hi" + std::to_string(d)));
+                }
+            b->allocate(patch);
         }
         for (const auto& [name, field] : datasets(s, bodies))
             f.read_block(name, *field, true);
