@@ -9,6 +9,7 @@
 #include <cmath>
 #include <memory>
 #include <numbers>
+#include <numeric>
 
 namespace efsi {
 
@@ -178,8 +179,15 @@ enum Stream : std::uint64_t {
 class Packing {
   public:
     Packing(const SeedingRequest& r, real h) : r_(r), reach_(r.gap + h) {
-        for (const auto& k : r.kinds)
+        for (const auto& k : r.kinds) {
             lattice_.push_back(surface_lattice(k, h));
+            // A stride near n / golden ratio, coprime to n: it visits every point once.
+            const std::size_t n = lattice_.back().size();
+            std::size_t st = std::max<std::size_t>(1, std::size_t(0.618 * real(n)));
+            while (n > 1 && std::gcd(st, n) != 1)
+                --st;
+            stride_.push_back(st);
+        }
         real rb = 0;
         for (const auto& k : r.kinds)
             rb = std::max(rb, k.bounding_radius);
@@ -210,13 +218,20 @@ class Packing {
         pts_.reserve(lattice_[kind].size());
         for (const Real3& y : lattice_[kind]) {
             const Real3 d = apply(rot, y);
-            const Real3 x{centre[0] + d[0], centre[1] + d[1], centre[2] + d[2]};
-            const real lv = r_.region->level(x);
-            if (region_is_distance_ ? lv > -r_.gap : lv >= 0) return false;
-            pts_.push_back(x);
+            pts_.push_back({centre[0] + d[0], centre[1] + d[1], centre[2] + d[2]});
         }
-        for (const Real3& x : pts_)
-            if (grid_->near(x, reach_, self)) return false;
+        // The tests are a conjunction, so neither their order nor the order of the points
+        // changes the answer. The neighbours first (what refuses most candidates in a dense
+        // packing), then the region; the points in a strided order that spreads over the
+        // whole surface, so that a candidate touching somewhere is refused after a few
+        // points rather than after every point before the touching part in lattice order.
+        const std::size_t n = pts_.size(), stride = stride_[kind];
+        for (std::size_t m = 0, q = 0; m < n; ++m, q = (q + stride) % n)
+            if (grid_->near(pts_[q], reach_, self)) return false;
+        for (std::size_t m = 0, q = 0; m < n; ++m, q = (q + stride) % n) {
+            const real lv = r_.region->level(pts_[q]);
+            if (region_is_distance_ ? lv > -r_.gap : lv >= 0) return false;
+        }
         // Surface points of this body inside another (a body wholly inside another has no
         // surface points near the other's), for the bodies whose bounding spheres meet.
         shape_ = r_.kinds[kind].make(centre, rot);
@@ -250,14 +265,21 @@ class Packing {
         bodies.push_back({kind, centre, rot});
     }
 
-    /// Move body b to the pose last passed to fits().
-    void move(int b, const Real3& centre, const Matrix3& rot) {
+    /// Move body b to (centre, rot) if it fits there; whether it moved. Its own surface
+    /// points leave the grid during the test (fits() would skip them one by one, and near
+    /// every point of the moved surface lie hundreds of them).
+    bool try_move(int b, const Real3& centre, const Matrix3& rot) {
         grid_->remove(b, points_[b]);
+        if (!fits(bodies[b].kind, centre, rot, b)) {
+            grid_->add(b, points_[b]);
+            return false;
+        }
         grid_->add(b, pts_);
         points_[b] = std::move(pts_);
         shapes_[b] = std::move(shape_);
         bodies[b].centre = centre;
         bodies[b].rotation = rot;
+        return true;
     }
 
     std::vector<SeededBody> bodies;
@@ -267,6 +289,7 @@ class Packing {
     real reach_;
     bool region_is_distance_ = false;
     std::vector<std::vector<Real3>> lattice_; ///< per kind, in body coordinates
+    std::vector<std::size_t> stride_;         ///< per kind, the order fits() visits them
     std::unique_ptr<PointGrid> grid_;
     std::vector<std::vector<Real3>> points_; ///< per body, in the lab frame
     std::vector<std::unique_ptr<Shape>> shapes_;
@@ -305,10 +328,7 @@ class Shaker {
             const real angle = da_ * (2 * counter_uniform(r.seed, m, shake_angle) - 1);
             const Matrix3 rot = multiply(
                 axis_angle_rotation({q * std::cos(phi), q * std::sin(phi), z}, angle), s.rotation);
-            if (p.fits(s.kind, centre, rot, b)) {
-                p.move(b, centre, rot);
-                ++accepted;
-            }
+            if (p.try_move(b, centre, rot)) ++accepted;
         }
         ++sweeps;
         const real rate = n > 0 ? real(accepted) / n : 0;
