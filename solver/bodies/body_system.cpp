@@ -66,9 +66,16 @@ BodySystem::BodySystem(const Config& config, const Decomposition& dec, const Hal
 BodySystem::~BodySystem() = default;
 
 void BodySystem::initialise() {
+    // phi on a box that certainly holds each body, then every patch fitted to its body,
+    // then the physics' own fields (Gs, B, kappa_R, the map) on the fitted patch only: they
+    // are functions of the position, and the start box is several times the fitted one.
     for (std::size_t i = 0; i < bodies_.size(); ++i)
         initialise_body(i);
     track_patches(true);
+    for (std::size_t i = 0; i < bodies_.size(); ++i) {
+        const auto shape = make_body_shape(cfg_.bodies[i]); // null for a mask
+        physics_[i]->initialise(*bodies_[i], shape.get());
+    }
 }
 
 void BodySystem::initialise_body(std::size_t i) {
@@ -141,7 +148,6 @@ void BodySystem::initialise_body(std::size_t i) {
         }
     }
     halos_.fill(phi, body.patch());
-    physics_[i]->initialise(body, shape.get());
 }
 
 Box BodySystem::occupied_box(const Body& b) const {

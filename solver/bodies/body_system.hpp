@@ -93,6 +93,7 @@ class BodySystem {
     /// then stores no trail, whatever its patch or the rank layout (collective). Returns
     /// the volume it could not put back (no band), 0 otherwise.
     real drop_residues(Body& body, const Box& occ);
+    /// Body i's phi on a box that certainly holds it (initialise() then fits the patch).
     void initialise_body(std::size_t i);
 
     const Config& cfg_;
