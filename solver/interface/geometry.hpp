@@ -40,8 +40,15 @@ GradientStencil gradient_stencil_from_string(const std::string& s);
 /// Signed distance to the surface (positive outside) read off a smoothed phi = (1 -
 /// tanh(psi / eps)) / 2: psi = eps atanh(1 - 2 phi), the argument clamped to 1 - 1e-15 so
 /// that empty and full cells give a finite psi (~17.6 eps).
+/// Most cells of a patch are empty or full, so the two clamped ends are looked up, not
+/// recomputed (the same values: atanh of the same clamped argument).
 inline real profile_distance(real phi, real eps) {
-    return eps * std::atanh(std::clamp(1 - 2 * phi, -1 + 1e-15, 1 - 1e-15));
+    constexpr real lo = -1 + 1e-15, hi = 1 - 1e-15;
+    static const real at_lo = std::atanh(lo), at_hi = std::atanh(hi);
+    const real x = 1 - 2 * phi;
+    if (x >= hi) return eps * at_hi;
+    if (x <= lo) return eps * at_lo;
+    return eps * std::atanh(x);
 }
 
 /// Central-difference gradient of a cell field at p (needs one halo layer).
