@@ -25,7 +25,7 @@ namespace {
 /// outflux (VofOptions::epsilon), so its value is a residue that stays where the body was.
 constexpr real occupied_threshold = VofOptions{}.epsilon;
 /// Residues farther than this (cells) from the occupied box are dropped after each step,
-/// their volume put back on the band (BodySystem::drop_residues). One cell: a step moves
+/// their volume put back on the band (BodySystem::track_patches). One cell: a step moves
 /// phi at most one cell per direction, so nothing beyond it can be reached in the next
 /// step, and it lies inside the patch for every margin (>= 2, moves at margin / 2).
 constexpr int residue_reach = 1;
@@ -150,85 +150,112 @@ void BodySystem::initialise_body(std::size_t i) {
     halos_.fill(phi, body.patch());
 }
 
-Box BodySystem::occupied_box(const Body& b) const {
+void BodySystem::occupied_extent(const Body& b, real* out) const {
     const int big = std::numeric_limits<int>::max() / 2;
-    std::array<real, 3> lo{real(big), real(big), real(big)}, hi{0, 0, 0};
-    const Int3 off = dec_.block().offset;
-    if (!b.patch().empty())
-        for_each_in(b.phi().owned(), [&](int i, int j, int k) {
-            if (b.phi()(i, j, k) <= occupied_threshold) return;
-            const Int3 p = Int3{i, j, k} + off;
-            for (int d = 0; d < 3; ++d) {
-                lo[d] = std::min(lo[d], real(p[d]));
-                hi[d] = std::max(hi[d], real(p[d] + 1));
-            }
-        });
-    // min(lo) as -max(-lo): two reductions of three values.
-    for (real& v : lo)
-        v = -v;
-    const std::array<real, 3> neg_lo = dec_.max(lo), top = dec_.max(hi);
-    Box box;
+    real* neg_lo = out; // -lo, so that one max reduces both ends
+    real* hi = out + 3;
     for (int d = 0; d < 3; ++d) {
-        box.lo[d] = int(-neg_lo[d]);
-        box.hi[d] = int(top[d]);
+        neg_lo[d] = -real(big);
+        hi[d] = 0;
     }
-    return box;
+    if (b.patch().empty()) return;
+    const Int3 off = dec_.block().offset;
+    for_each_in(b.phi().owned(), [&](int i, int j, int k) {
+        if (b.phi()(i, j, k) <= occupied_threshold) return;
+        const Int3 p = Int3{i, j, k} + off;
+        for (int d = 0; d < 3; ++d) {
+            neg_lo[d] = std::max(neg_lo[d], -real(p[d]));
+            hi[d] = std::max(hi[d], real(p[d] + 1));
+        }
+    });
 }
 
-real BodySystem::drop_residues(Body& body, const Box& occ) {
+real BodySystem::drop_local(Body& body, const Box& occ) const {
+    if (body.patch().empty()) return 0;
     const GlobalGrid& g = dec_.grid();
     const Int3 off = dec_.block().offset;
     Field& phi = body.phi();
     real dropped = 0;
-    if (!body.patch().empty())
-        for_each_in(phi.owned(), [&](int i, int j, int k) {
-            const Int3 p = Int3{i, j, k} + off;
-            for (int d = 0; d < g.dim; ++d)
-                if (!near_interval(p[d], occ.lo[d], occ.hi[d], g.cells[d], dec_.periodic()[d],
-                                   residue_reach)) {
-                    dropped += phi(i, j, k);
-                    phi(i, j, k) = 0;
-                    return;
-                }
-        });
-    dropped = dec_.sum(dropped);
-    if (dropped == 0) return 0;
-    // Back on the band, in proportion to phi (1 - phi): conservative to round-off, and
-    // (dropped ~1e-8 per cell against a band of O(1) per cell) far below any other error.
-    real band = 0;
-    if (!body.patch().empty())
-        for_each_in(phi.owned(),
-                    [&](int i, int j, int k) { band += phi(i, j, k) * (1 - phi(i, j, k)); });
-    band = dec_.sum(band);
-    if (band > 0) {
-        const real c = dropped / band;
-        if (!body.patch().empty())
-            for_each_in(phi.owned(), [&](int i, int j, int k) {
-                phi(i, j, k) += c * phi(i, j, k) * (1 - phi(i, j, k));
-            });
-    }
-    halos_.fill(phi, body.patch());
-    return band > 0 ? 0 : dropped * g.cell_volume();
+    for_each_in(phi.owned(), [&](int i, int j, int k) {
+        const Int3 p = Int3{i, j, k} + off;
+        for (int d = 0; d < g.dim; ++d)
+            if (!near_interval(p[d], occ.lo[d], occ.hi[d], g.cells[d], dec_.periodic()[d],
+                               residue_reach)) {
+                dropped += phi(i, j, k);
+                phi(i, j, k) = 0;
+                return;
+            }
+    });
+    return dropped;
 }
 
 void BodySystem::track_patches(bool force) {
-    for (std::size_t i = 0; i < bodies_.size(); ++i) {
-        Body& body = *bodies_[i];
-        if (!physics_[i]->moves() && !force) continue;
-        const int m = cfg_.bodies[i].margin;
-        Box occ = occupied_box(body);
-        if (occ.empty()) {
+    std::vector<std::size_t> tracked;
+    for (std::size_t i = 0; i < bodies_.size(); ++i)
+        if (physics_[i]->moves() || force) tracked.push_back(i);
+    if (tracked.empty()) return;
+    const std::size_t n = tracked.size();
+    // Every tracked body's occupied box in one reduction.
+    std::vector<real> ext(6 * n);
+    for (std::size_t q = 0; q < n; ++q)
+        occupied_extent(*bodies_[tracked[q]], ext.data() + 6 * q);
+    dec_.max_in_place(ext);
+    std::vector<Box> occ(n);
+    for (std::size_t q = 0; q < n; ++q)
+        for (int d = 0; d < 3; ++d) {
+            occ[q].lo[d] = int(-ext[6 * q + d]);
+            occ[q].hi[d] = int(ext[6 * q + 3 + d]);
+        }
+    // After a step: the residues away from each body dropped and put back on its band
+    // (drop_local in body_system.hpp), two reductions for all the bodies.
+    if (!force) {
+        std::vector<real> dropped(n, 0), band(n, 0);
+        for (std::size_t q = 0; q < n; ++q)
+            if (!occ[q].empty()) dropped[q] = drop_local(*bodies_[tracked[q]], occ[q]);
+        dec_.sum_in_place(dropped);
+        bool any = false;
+        for (std::size_t q = 0; q < n; ++q) {
+            if (dropped[q] == 0) continue;
+            any = true;
+            const Body& body = *bodies_[tracked[q]];
+            if (body.patch().empty()) continue;
+            const Field& phi = body.phi();
+            for_each_in(phi.owned(),
+                        [&](int i, int j, int k) { band[q] += phi(i, j, k) * (1 - phi(i, j, k)); });
+        }
+        if (any) dec_.sum_in_place(band);
+        for (std::size_t q = 0; q < n && any; ++q) {
+            if (dropped[q] == 0) continue;
+            Body& body = *bodies_[tracked[q]];
+            Field& phi = body.phi();
+            if (band[q] > 0) {
+                // Conservative to round-off; dropped ~1e-8 per cell against a band of O(1)
+                // per cell, far below any other error.
+                const real c = dropped[q] / band[q];
+                if (!body.patch().empty())
+                    for_each_in(phi.owned(), [&](int i, int j, int k) {
+                        phi(i, j, k) += c * phi(i, j, k) * (1 - phi(i, j, k));
+                    });
+            } else {
+                clipped_[tracked[q]] += dropped[q] * dec_.grid().cell_volume();
+            }
+            halos_.fill(phi, body.patch());
+        }
+    }
+    for (std::size_t q = 0; q < n; ++q) {
+        Body& body = *bodies_[tracked[q]];
+        if (occ[q].empty()) {
             if (dec_.rank() == 0 && force)
                 fmt::print("warning: body '{}' occupies no cell\n", body.name());
             continue;
         }
-        if (!force) clipped_[i] += drop_residues(body, occ);
         // Move when the body comes within m/2 cells of its patch edge, or when the patch is
         // more than twice the box it would be fitted to now (it wrapped a periodic direction
         // that the body has since left), or when forced. Decided on the unwidened boxes, so
         // the moves do not depend on the rank layout; and since nothing is stored beyond the
         // residue reach (< m/2), a move changes what is stored, never a value the step sees.
-        Box needed = occ, wanted = occ;
+        const int m = cfg_.bodies[tracked[q]].margin;
+        Box needed = occ[q], wanted = occ[q];
         for (int d = 0; d < dec_.dim(); ++d) {
             needed.lo[d] -= m / 2;
             needed.hi[d] += m / 2;

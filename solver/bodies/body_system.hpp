@@ -86,13 +86,14 @@ class BodySystem {
     bool empty() const { return bodies_.empty(); }
 
   private:
-    /// The global box of the cells with phi above the VOF's epsilon (collective).
-    Box occupied_box(const Body& b) const;
-    /// Zero the residues (phi <= epsilon, which never move) farther than one cell from
-    /// `occ` and put their volume back on the band, phi += c phi (1 - phi): a moving body
-    /// then stores no trail, whatever its patch or the rank layout (collective). Returns
-    /// the volume it could not put back (no band), 0 otherwise.
-    real drop_residues(Body& body, const Box& occ);
+    /// This rank's part of the box of the cells with phi above the VOF's epsilon, as
+    /// {-lo, hi} per direction in out[0..6) (track_patches reduces every body's at once).
+    void occupied_extent(const Body& b, real* out) const;
+    /// Zero this rank's residues (phi <= epsilon, which never move) farther than one cell
+    /// from `occ` and return their sum. track_patches then puts the dropped volume back on
+    /// the band, phi += c phi (1 - phi): a moving body stores no trail, whatever its patch or
+    /// the rank layout.
+    real drop_local(Body& body, const Box& occ) const;
     /// Body i's phi on a box that certainly holds it (initialise() then fits the patch).
     void initialise_body(std::size_t i);
 

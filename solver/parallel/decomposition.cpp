@@ -198,6 +198,11 @@ void Decomposition::sum_in_place(std::span<real> values) const {
     MPI_Allreduce(MPI_IN_PLACE, values.data(), static_cast<int>(values.size()), mpi_real(), MPI_SUM,
                   cart_);
 }
+void Decomposition::max_in_place(std::span<real> values) const {
+    if (values.empty()) return;
+    MPI_Allreduce(MPI_IN_PLACE, values.data(), static_cast<int>(values.size()), mpi_real(), MPI_MAX,
+                  cart_);
+}
 void Decomposition::barrier() const {
     MPI_Barrier(cart_);
 }

@@ -68,6 +68,8 @@ class Decomposition {
     std::int64_t sum(std::int64_t x) const;
     /// Element-wise sum over the ranks of a whole array, in place (one collective).
     void sum_in_place(std::span<real> values) const;
+    /// Element-wise max over the ranks of a whole array, in place (one collective).
+    void max_in_place(std::span<real> values) const;
     void barrier() const;
     /// Abort every rank with a message (used when one rank finds a fatal error).
     [[noreturn]] void abort(const std::string& message) const;
