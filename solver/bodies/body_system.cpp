@@ -36,11 +36,6 @@ bool near_interval(int p, int lo, int hi, int n, bool periodic, int r) {
     return in(p) || (periodic && (in(p - n) || in(p + n)));
 }
 
-std::int64_t cells_of(const Box& b) {
-    const Int3 n = b.size();
-    return std::int64_t(n[0]) * n[1] * n[2];
-}
-
 } // namespace
 
 BodySystem::BodySystem(const Config& config, const Decomposition& dec, const HaloFiller& halos)
@@ -189,6 +184,45 @@ real BodySystem::drop_local(Body& body, const Box& occ) const {
     return dropped;
 }
 
+void BodySystem::drop_residues(const std::vector<std::size_t>& tracked,
+                               const std::vector<Box>& occ) {
+    // Two reductions for all the bodies: the dropped volumes, then (if any) the bands'.
+    const std::size_t n = tracked.size();
+    std::vector<real> dropped(n, 0), band(n, 0);
+    for (std::size_t q = 0; q < n; ++q)
+        if (!occ[q].empty()) dropped[q] = drop_local(*bodies_[tracked[q]], occ[q]);
+    dec_.sum_in_place(dropped);
+    bool any = false;
+    for (std::size_t q = 0; q < n; ++q) {
+        if (dropped[q] == 0) continue;
+        any = true;
+        const Body& body = *bodies_[tracked[q]];
+        if (body.patch().empty()) continue;
+        const Field& phi = body.phi();
+        for_each_in(phi.owned(),
+                    [&](int i, int j, int k) { band[q] += phi(i, j, k) * (1 - phi(i, j, k)); });
+    }
+    if (!any) return;
+    dec_.sum_in_place(band);
+    for (std::size_t q = 0; q < n; ++q) {
+        if (dropped[q] == 0) continue;
+        Body& body = *bodies_[tracked[q]];
+        Field& phi = body.phi();
+        if (band[q] > 0) {
+            // Conservative to round-off; dropped ~1e-8 per cell against a band of O(1) per
+            // cell, far below any other error.
+            const real c = dropped[q] / band[q];
+            if (!body.patch().empty())
+                for_each_in(phi.owned(), [&](int i, int j, int k) {
+                    phi(i, j, k) += c * phi(i, j, k) * (1 - phi(i, j, k));
+                });
+        } else {
+            clipped_[tracked[q]] += dropped[q] * dec_.grid().cell_volume();
+        }
+        halos_.fill(phi, body.patch());
+    }
+}
+
 void BodySystem::track_patches(bool force) {
     std::vector<std::size_t> tracked;
     for (std::size_t i = 0; i < bodies_.size(); ++i)
@@ -206,42 +240,7 @@ void BodySystem::track_patches(bool force) {
             occ[q].lo[d] = int(-ext[6 * q + d]);
             occ[q].hi[d] = int(ext[6 * q + 3 + d]);
         }
-    // After a step: the residues away from each body dropped and put back on its band
-    // (drop_local in body_system.hpp), two reductions for all the bodies.
-    if (!force) {
-        std::vector<real> dropped(n, 0), band(n, 0);
-        for (std::size_t q = 0; q < n; ++q)
-            if (!occ[q].empty()) dropped[q] = drop_local(*bodies_[tracked[q]], occ[q]);
-        dec_.sum_in_place(dropped);
-        bool any = false;
-        for (std::size_t q = 0; q < n; ++q) {
-            if (dropped[q] == 0) continue;
-            any = true;
-            const Body& body = *bodies_[tracked[q]];
-            if (body.patch().empty()) continue;
-            const Field& phi = body.phi();
-            for_each_in(phi.owned(),
-                        [&](int i, int j, int k) { band[q] += phi(i, j, k) * (1 - phi(i, j, k)); });
-        }
-        if (any) dec_.sum_in_place(band);
-        for (std::size_t q = 0; q < n && any; ++q) {
-            if (dropped[q] == 0) continue;
-            Body& body = *bodies_[tracked[q]];
-            Field& phi = body.phi();
-            if (band[q] > 0) {
-                // Conservative to round-off; dropped ~1e-8 per cell against a band of O(1)
-                // per cell, far below any other error.
-                const real c = dropped[q] / band[q];
-                if (!body.patch().empty())
-                    for_each_in(phi.owned(), [&](int i, int j, int k) {
-                        phi(i, j, k) += c * phi(i, j, k) * (1 - phi(i, j, k));
-                    });
-            } else {
-                clipped_[tracked[q]] += dropped[q] * dec_.grid().cell_volume();
-            }
-            halos_.fill(phi, body.patch());
-        }
-    }
+    if (!force) drop_residues(tracked, occ);
     for (std::size_t q = 0; q < n; ++q) {
         Body& body = *bodies_[tracked[q]];
         if (occ[q].empty()) {
@@ -265,7 +264,7 @@ void BodySystem::track_patches(bool force) {
         const Box& fitted = body.patch().fitted;
         const Patch target = make_patch(wanted, dec_);
         if (!force && fitted.contains(make_patch(needed, dec_, 0).fitted) &&
-            cells_of(fitted) <= 2 * cells_of(target.fitted))
+            fitted.count() <= 2 * target.fitted.count())
             continue;
         body.move_to(target);
         halos_.fill(body.phi(), body.patch());

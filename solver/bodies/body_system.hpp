@@ -94,6 +94,10 @@ class BodySystem {
     /// the band, phi += c phi (1 - phi): a moving body stores no trail, whatever its patch or
     /// the rank layout.
     real drop_local(Body& body, const Box& occ) const;
+    /// drop_local for the bodies `tracked` (occupied boxes `occ`), their dropped volumes
+    /// put back on their bands, phi += c phi (1 - phi), or counted as clipped where a body
+    /// has no band (collective).
+    void drop_residues(const std::vector<std::size_t>& tracked, const std::vector<Box>& occ);
     /// Body i's phi on a box that certainly holds it (initialise() then fits the patch).
     void initialise_body(std::size_t i);
 
