@@ -9,7 +9,6 @@
 #include <cmath>
 #include <memory>
 #include <numbers>
-#include <numeric>
 
 namespace efsi {
 
@@ -179,15 +178,8 @@ enum Stream : std::uint64_t {
 class Packing {
   public:
     Packing(const SeedingRequest& r, real h) : r_(r), reach_(r.gap + h) {
-        for (const auto& k : r.kinds) {
+        for (const auto& k : r.kinds)
             lattice_.push_back(surface_lattice(k, h));
-            // A stride near n / golden ratio, coprime to n: it visits every point once.
-            const std::size_t n = lattice_.back().size();
-            std::size_t st = std::max<std::size_t>(1, std::size_t(0.618 * real(n)));
-            while (n > 1 && std::gcd(st, n) != 1)
-                --st;
-            stride_.push_back(st);
-        }
         real rb = 0;
         for (const auto& k : r.kinds)
             rb = std::max(rb, k.bounding_radius);
@@ -218,20 +210,13 @@ class Packing {
         pts_.reserve(lattice_[kind].size());
         for (const Real3& y : lattice_[kind]) {
             const Real3 d = apply(rot, y);
-            pts_.push_back({centre[0] + d[0], centre[1] + d[1], centre[2] + d[2]});
-        }
-        // The tests are a conjunction, so neither their order nor the order of the points
-        // changes the answer. The neighbours first (what refuses most candidates in a dense
-        // packing), then the region; the points in a strided order that spreads over the
-        // whole surface, so that a candidate touching somewhere is refused after a few
-        // points rather than after every point before the touching part in lattice order.
-        const std::size_t n = pts_.size(), stride = stride_[kind];
-        for (std::size_t m = 0, q = 0; m < n; ++m, q = (q + stride) % n)
-            if (grid_->near(pts_[q], reach_, self)) return false;
-        for (std::size_t m = 0, q = 0; m < n; ++m, q = (q + stride) % n) {
-            const real lv = r_.region->level(pts_[q]);
+            const Real3 x{centre[0] + d[0], centre[1] + d[1], centre[2] + d[2]};
+            const real lv = r_.region->level(x);
             if (region_is_distance_ ? lv > -r_.gap : lv >= 0) return false;
+            pts_.push_back(x);
         }
+        for (const Real3& x : pts_)
+            if (grid_->near(x, reach_, self)) return false;
         // Surface points of this body inside another (a body wholly inside another has no
         // surface points near the other's), for the bodies whose bounding spheres meet.
         shape_ = r_.kinds[kind].make(centre, rot);
@@ -289,7 +274,6 @@ class Packing {
     real reach_;
     bool region_is_distance_ = false;
     std::vector<std::vector<Real3>> lattice_; ///< per kind, in body coordinates
-    std::vector<std::size_t> stride_;         ///< per kind, the order fits() visits them
     std::unique_ptr<PointGrid> grid_;
     std::vector<std::vector<Real3>> points_; ///< per body, in the lab frame
     std::vector<std::unique_ptr<Shape>> shapes_;
