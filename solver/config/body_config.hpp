@@ -134,6 +134,9 @@ struct BodyConfig {
     bool map_area_filter = true;
     /// Pseudo-steps per time step of the conservative restoration of phi's tanh profile.
     int profile_iterations = 2;
+    /// A band cell takes the membrane force only where |grad psi| >= this
+    /// (MembraneForceSettings::min_distance_gradient).
+    real min_distance_gradient = 0.5;
 
     /// A membrane whose strain is derived from a transported reference map.
     bool carries_reference_map() const {

@@ -26,6 +26,7 @@ MembraneBody::MembraneBody(const BodyConfig& b, const BodyContext& ctx) : BodyPh
     MembraneForceSettings ms;
     ms.smoothing_width = b.smoothing_width;
     ms.bending_modulus = b.bending_modulus;
+    ms.min_distance_gradient = b.min_distance_gradient;
     force_ = std::make_unique<MembraneForce>(run.grid, ctx.halos, ms);
     transport_ = std::make_unique<BodyTransport>(ctx.halos);
     // Gs is extended from the core of the band to the whole band: layers enough to reach

@@ -24,13 +24,13 @@ constexpr double FLOW_BYTES_PER_CELL = 189;
 // - the process's base, the flow with hypre's viscous solve (a pinned vessel wall) and the
 //   bodies' patch cells: the blood_capillary study's three runs at 64 x 32 x 32
 //   (verification/results/blood_capillary: rate_*).
-constexpr double PROCESS_BYTES = 1.01e+08;
-constexpr double FLOW_SECONDS_HYPRE = 1.31e-06;
+constexpr double PROCESS_BYTES = 1.02e+08;
+constexpr double FLOW_SECONDS_HYPRE = 1.51e-06;
 constexpr double HELD_BYTES = 11; // phi alone: 8 B per cell plus the patch's halo
-constexpr double SOLID_BYTES = 459;
-constexpr double SOLID_SECONDS = 6.22e-07;
-constexpr double MEMBRANE_BYTES = 687;
-constexpr double MEMBRANE_SECONDS = 9.68e-07;
+constexpr double SOLID_BYTES = 647;
+constexpr double SOLID_SECONDS = 7.07e-07;
+constexpr double MEMBRANE_BYTES = 719;
+constexpr double MEMBRANE_SECONDS = 4.26e-07;
 
 } // namespace
 

@@ -173,6 +173,17 @@ TEST(BodyConfig, MapInterpolationAndSmoothingWidthAreChecked) {
                 HasSubstr("body[0].smoothing_width"));
 }
 
+TEST(BodyConfig, MinDistanceGradientIsAFractionOfOne) {
+    EXPECT_EQ(case_from(membrane("")).bodies[0].min_distance_gradient, 0.5);
+    EXPECT_EQ(case_from(membrane("min_distance_gradient = 0.8\n")).bodies[0].min_distance_gradient,
+              0.8);
+    // |grad psi| is 1 in a resolved profile: a threshold above 1 would drop the whole band.
+    EXPECT_THAT(input_error_of([&] { case_from(membrane("min_distance_gradient = 1.5\n")); }),
+                HasSubstr("body[0].min_distance_gradient"));
+    EXPECT_THAT(input_error_of([&] { case_from(membrane("min_distance_gradient = 0.0\n")); }),
+                HasSubstr("body[0].min_distance_gradient"));
+}
+
 TEST(BodyConfig, HalfExtentIsTheRotatedShapes) {
     // An ellipsoid lying flat by a wall is accepted: its extent normal to the wall is its
     // short semi-axis, not the longest one.
