@@ -69,7 +69,6 @@ import csv
 import glob
 import json
 import math
-import tomllib
 from pathlib import Path
 
 import h5py
@@ -77,6 +76,7 @@ import numpy as np
 
 from _bounds import Bound
 from _flowio import cached_run
+from _overlap import overlap, sharp_fraction, smoothing_widths  # noqa: F401 (used by records)
 
 DESCRIPTION = "blood in a capillary: Ht, apparent viscosity, cell-free layer, platelets, overlap"
 
@@ -154,46 +154,6 @@ def flow_rate(path, h: float) -> float:
     with h5py.File(path, "r") as f:
         u = f["faces_u"][...]  # [z][y][x]
     return float(u.sum(axis=(0, 1)).mean() * h * h)
-
-
-def smoothing_widths(run_dir) -> dict:
-    """{body name: smoothing width in cells} of a run's smoothed bodies, from the case.toml
-    efsi writes beside its output (the seeding expanded into [[body]] entries); sharp
-    bodies are absent."""
-    with open(Path(run_dir) / "case.toml", "rb") as f:
-        case = tomllib.load(f)
-    return {b["name"]: float(b.get("smoothing_width", 1.0)) for b in case.get("body", [])
-            if b.get("interface") == "smoothed"}
-
-
-def sharp_fraction(phi, width: float):
-    """The volume fraction of a smoothed body's sharp equivalent (its surface phi = 1/2):
-    each cell cut by the plane at the distance L = eps atanh(1 - 2 phi) (cells, positive
-    outside) its tanh profile gives, normal to a grid axis: clip(1/2 - L, 0, 1)."""
-    p = np.clip(phi, 1e-16, 1.0 - 1e-16)
-    return np.clip(0.5 - width * np.arctanh(1.0 - 2.0 * p), 0.0, 1.0)
-
-
-def overlap(path, widths=None) -> float:
-    """max over every pair of bodies of sum max(0, phi_i + phi_j - 1) / min(V_i, V_j).
-    With `widths` ({name: smoothing width in cells}) each smoothed body enters as its sharp
-    equivalent (sharp_fraction); without, as its stored profile, whose tail reaches into
-    a sharp neighbour at any gap (docs/method.md, "Body overlap measure")."""
-    widths = widths or {}
-    with h5py.File(path, "r") as f:
-        phis = []
-        for k in f.keys():
-            if k.startswith("phi_"):
-                w = widths.get(k[len("phi_"):])
-                phis.append(f[k][...] if w is None else sharp_fraction(f[k][...], w))
-    worst = 0.0
-    vols = [p.sum() for p in phis]
-    for a in range(len(phis)):
-        for b in range(a + 1, len(phis)):
-            small = min(vols[a], vols[b])
-            if small > 0:
-                worst = max(worst, float(np.maximum(phis[a] + phis[b] - 1, 0).sum() / small))
-    return worst
 
 
 def radial_grid(shape, h):
