@@ -72,7 +72,8 @@ struct MembraneForceSettings {
     /// rank (J -> 0, neo-Hookean tension ~ 1/J^3) even where phi > band_cutoff. Measured
     /// in the d/8 Ca 0.2 shear run that blew up at t = 2.9: every cell with J < 0.5 had
     /// |grad psi| < 0.71, the blow-up cell 0.35 (phi = 1.3e-4, J: 0.17 -> 0). 1/2 keeps
-    /// the band cells of a resolved profile (|grad psi| = 1 + O(h^2)).
+    /// the band cells of a resolved profile (|grad psi| = 1 + O(h^2)). The case key
+    /// body.min_distance_gradient sets it (docs/method.md, "What tears the trailing rim").
     real min_distance_gradient = 0.5;
     /// Band cells also need J(P Gs P) >= this times J(Gs), J(Gs) = sqrt of the second
     /// invariant of Gs: the normal of phi must be (close to) a normal of the material
