@@ -26,23 +26,32 @@ def sharp_fraction(phi, width: float):
     return np.clip(0.5 - width * np.arctanh(1.0 - 2.0 * p), 0.0, 1.0)
 
 
-def overlap(path, widths=None) -> float:
-    """max over every pair of bodies of sum max(0, phi_i + phi_j - 1) / min(V_i, V_j).
-    With `widths` ({name: smoothing width in cells}) each smoothed body enters as its sharp
+def worst_pair(path, widths=None):
+    """(overlap, (body, body)) of the pair of bodies that overlap most in the snapshot at
+    `path`: sum max(0, phi_i + phi_j - 1) / min(V_i, V_j), (0.0, None) if none does. With
+    `widths` ({name: smoothing width in cells}) each smoothed body enters as its sharp
     equivalent (sharp_fraction); without, as its stored profile, whose tail reaches into
     a sharp neighbour at any gap (docs/method.md, "Body overlap measure")."""
     widths = widths or {}
     with h5py.File(path, "r") as f:
-        phis = []
+        names, phis = [], []
         for k in f.keys():
             if k.startswith("phi_"):
-                w = widths.get(k[len("phi_"):])
+                names.append(k[len("phi_"):])
+                w = widths.get(names[-1])
                 phis.append(f[k][...] if w is None else sharp_fraction(f[k][...], w))
-    worst = 0.0
+    worst, pair = 0.0, None
     vols = [p.sum() for p in phis]
     for a in range(len(phis)):
         for b in range(a + 1, len(phis)):
             small = min(vols[a], vols[b])
             if small > 0:
-                worst = max(worst, float(np.maximum(phis[a] + phis[b] - 1, 0).sum() / small))
-    return worst
+                o = float(np.maximum(phis[a] + phis[b] - 1, 0).sum() / small)
+                if o > worst:
+                    worst, pair = o, (names[a], names[b])
+    return worst, pair
+
+
+def overlap(path, widths=None) -> float:
+    """The largest overlap of two bodies in the snapshot at `path` (worst_pair)."""
+    return worst_pair(path, widths)[0]

@@ -76,7 +76,7 @@ import numpy as np
 
 from _bounds import Bound
 from _flowio import cached_run
-from _overlap import overlap, sharp_fraction, smoothing_widths  # noqa: F401 (used by records)
+from _overlap import overlap, sharp_fraction, smoothing_widths, worst_pair  # noqa: F401 (records)
 
 DESCRIPTION = "blood in a capillary: Ht, apparent viscosity, cell-free layer, platelets, overlap"
 

@@ -7,9 +7,6 @@ GB for this run) are not kept; rerun the case to regenerate them (README.md):
 import sys
 from pathlib import Path
 
-import h5py
-import numpy as np
-
 sys.path.insert(0, str(Path(__file__).resolve().parents[3] / "studies"))
 import blood_capillary as bc  # noqa: E402
 
@@ -19,20 +16,8 @@ def main(run: Path):
     print("| t [ms] | max_body_overlap | pair |")
     print("|---|---|---|")
     for p in bc.snapshots(run):
-        with h5py.File(p, "r") as f:
-            phis = {k[4:]: f[k][...] for k in f.keys() if k.startswith("phi_")}
-        sharp = {k: bc.sharp_fraction(v, widths[k]) if k in widths else v
-                 for k, v in phis.items()}
-        names = sorted(sharp)
-        vols = {k: sharp[k].sum() for k in names}
-        best, pair = 0.0, "-"
-        for a in range(len(names)):
-            for b in range(a + 1, len(names)):
-                small = min(vols[names[a]], vols[names[b]])
-                o = float(np.maximum(sharp[names[a]] + sharp[names[b]] - 1, 0).sum() / small)
-                if o > best:
-                    best, pair = o, f"{names[a]}, {names[b]}"
-        print(f"| {bc.snapshot_time(p):.2f} | {best:.4f} | {pair} |")
+        best, pair = bc.worst_pair(p, widths)
+        print(f"| {bc.snapshot_time(p):.2f} | {best:.4f} | {', '.join(pair) if pair else '-'} |")
 
 
 if __name__ == "__main__":
