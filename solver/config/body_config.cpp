@@ -199,6 +199,12 @@ std::vector<BodyConfig> read_bodies(TableReader& top, const GlobalGrid& grid,
             "delays the tearing of a red cell's drawn-out trailing rim at h = 0.125 um "
             "(5.38 -> 5.85 ms) without preventing it (docs/method.md, \"What tears the "
             "trailing rim\")");
+        b.newton_foot_points = r.boolean(
+            "newton_foot_points", false,
+            "membrane, strain_extension = normal: a band cell's foot point on phi = 1/2 lies "
+            "psi / (length of grad psi) along the normal (one Newton step, exact where psi is a "
+            "distance times a constant) instead of psi; the map's gradient is corrected for "
+            "that distance (docs/method.md, \"What tears the trailing rim\")");
         b.profile_iterations =
             int(r.integer("profile_iterations", 2, Range::closed(0, 100),
                           "membrane: pseudo-steps per time step of the conservative "

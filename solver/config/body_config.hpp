@@ -137,6 +137,9 @@ struct BodyConfig {
     /// A band cell takes the membrane force only where |grad psi| >= this
     /// (MembraneForceSettings::min_distance_gradient).
     real min_distance_gradient = 0.5;
+    /// strain_extension = normal: foot points psi / |grad psi| along the normal, not psi
+    /// (NormalExtension's newton_foot).
+    bool newton_foot_points = false;
 
     /// A membrane whose strain is derived from a transported reference map.
     bool carries_reference_map() const {

@@ -37,7 +37,7 @@ MembraneBody::MembraneBody(const BodyConfig& b, const BodyContext& ctx) : BodyPh
         normal_extension_ = std::make_unique<NormalExtension>(
             ctx.halos, b.name, b.smoothing_width, b.strain_core, -1,
             b.carries_reference_map() && b.map_interpolation == MapInterpolation::Cubic,
-            b.carries_reference_map() && b.map_area_filter);
+            b.carries_reference_map() && b.map_area_filter, b.newton_foot_points);
     } else if (b.extension_threshold > 0) {
         const real cutoff = MembraneForceSettings{}.band_cutoff;
         const int layers =

@@ -44,10 +44,10 @@ real NormalExtension::default_reach(real eps_cells) {
 
 NormalExtension::NormalExtension(const HaloFiller& halos, const std::string& body_name,
                                  real eps_cells, real core_cells, real reach_cells, bool cubic_map,
-                                 bool area_filter)
+                                 bool area_filter, bool newton_foot)
     : halos_(halos), eps_cells_(eps_cells), core_cells_(core_cells),
       reach_cells_(reach_cells > 0 ? reach_cells : default_reach(eps_cells)), cubic_map_(cubic_map),
-      area_filter_(area_filter) {
+      area_filter_(area_filter), newton_foot_(newton_foot) {
     // The foot point is |y - x| = |psi| <= reach cells away (n is a unit vector); with u the
     // position in cell units (integer at a cell centre) the stencils read floor(u) .. floor(u)
     // + 1 (trilinear) or floor(u) - 1 .. floor(u) + 2 (cubic), so at most ceil(reach) + 1
@@ -188,7 +188,7 @@ bool NormalExtension::foot_on_surface(const Trilinear& at) const {
            kFootTolerance * halos_.decomposition().grid().dx(0);
 }
 
-bool NormalExtension::normal_at(const Int3& p, real& s, Real3& n) const {
+bool NormalExtension::normal_at(const Int3& p, real& s, Real3& n, real* gradient) const {
     const GlobalGrid& g = halos_.decomposition().grid();
     s = psi_(p);
     n = Real3{0, 0, 0};
@@ -200,6 +200,7 @@ bool NormalExtension::normal_at(const Int3& p, real& s, Real3& n) const {
     if (g2 < 0.25) return false;
     for (int d = 0; d < g.dim; ++d)
         n[d] = gp[d] / std::sqrt(g2);
+    if (gradient) *gradient = std::sqrt(g2);
     return true;
 }
 
@@ -225,11 +226,11 @@ void NormalExtension::apply_tensor(Body& body, real core_cells, const Field* wei
     const real core = core_cells * g.dx(0);
     for_each_in(body.phi().owned(), [&](int i, int j, int k) {
         const Int3 p{i, j, k};
-        real s = 0;
+        real s = 0, gradient = 1;
         Real3 n;
         std::array<std::array<real, 3>, 3> T{};
         real target_j = 0; // > 0: the copy's area ratio J is set to this
-        if (!normal_at(p, s, n)) {
+        if (!normal_at(p, s, n, &gradient)) {
             for (int s2 = 0; s2 < ncomp; ++s2)
                 G.comp[s2](p) = 0;
             for (int a = 0; a < dim; ++a)
@@ -242,8 +243,9 @@ void NormalExtension::apply_tensor(Body& body, real core_cells, const Field* wei
                     T[a][b] = G.value(a, b, p);
         } else {
             Real3 y = position(g, block, Location::Cell, i, j, k);
+            const real to_foot = foot_distance(s, gradient);
             for (int d = 0; d < dim; ++d)
-                y[d] -= s * n[d];
+                y[d] -= to_foot * n[d];
             // One set of weights serves every component (src_ fields share one layout).
             const Trilinear at = trilinear_at(y);
             if (weight && !foot_on_surface(at)) {
@@ -328,21 +330,22 @@ void NormalExtension::apply_reference_map(Body& body, bool whole_band, const Sha
     //    With a reference shape every band cell's X then goes onto its surface.
     for_each_in(body.phi().owned(), [&](int i, int j, int k) {
         const Int3 p{i, j, k};
-        real s = 0;
+        real s = 0, gradient = 1;
         Real3 n;
-        if (!normal_at(p, s, n)) return;
+        if (!normal_at(p, s, n, &gradient)) return;
         const Real3 x = position(g, block, Location::Cell, i, j, k);
         if (whole_band || std::abs(s) > core) {
             Real3 y = x;
+            const real to_foot = foot_distance(s, gradient);
             for (int d = 0; d < dim; ++d)
-                y[d] -= s * n[d];
+                y[d] -= to_foot * n[d];
             // A foot point off the surface (a thin body's middle, where psi's gradient turns)
             // has no map to copy: the cell keeps its transported X.
             if (foot_on_surface(trilinear_at(y)))
                 for (int d = 0; d < dim; ++d)
                     X[d](p) = (cubic_map_ ? interpolate_cubic(src_[d], y)
                                           : interpolate(src_[d], trilinear_at(y))) -
-                              s * n[d];
+                              to_foot * n[d];
         }
         if (!reference) return;
         Real3 Xp = x;
@@ -370,11 +373,11 @@ void NormalExtension::apply_reference_map(Body& body, bool whole_band, const Sha
     const real near = 2 * g.dx(0);
     for_each_in(body.phi().owned(), [&](int i, int j, int k) {
         const Int3 p{i, j, k};
-        real s = 0;
+        real s = 0, gradient = 1;
         Real3 n;
         Matrix3 Gm = identity_matrix();
         real ok = 0;
-        if (normal_at(p, s, n) && std::abs(s) <= near) {
+        if (normal_at(p, s, n, &gradient) && std::abs(s) <= near) {
             Matrix3 gx = identity_matrix();
             for (int a = 0; a < dim; ++a) {
                 const Real3 ga = central_gradient4(X[a], g, p, dim);
@@ -393,12 +396,15 @@ void NormalExtension::apply_reference_map(Body& body, bool whole_band, const Sha
                     H[a][b] = H[b][a] = (psi_(pp) - psi_(pm) - psi_(mp) + psi_(mm)) * 0.25 * ih2;
                 }
             }
-            // Q = (I - s P H P)^-1 (the z row and column stay I in 2D).
+            // Q = (I - s P H P)^-1 (the z row and column stay I in 2D). newton_foot: with
+            // psi / |grad psi| for s and P H P / |grad psi| for W (exact for psi = c d).
             const Matrix3 W = tangential_part(H, n, dim);
+            const real to_foot = foot_distance(s, gradient);
+            const real w_scale = newton_foot_ ? 1 / gradient : 1;
             Matrix3 Q = identity_matrix();
             for (int a = 0; a < dim; ++a)
                 for (int b = 0; b < dim; ++b)
-                    Q[a][b] -= s * W[a][b];
+                    Q[a][b] -= to_foot * w_scale * W[a][b];
             // Valid where the parallel surfaces are those of a distance: every tangential
             // eigenvalue of I - s W in [1/2, 2] (1 - s k for curvatures k of the surface).
             // Not so where the two faces' bands overlap (a capsule a few cells thick, its

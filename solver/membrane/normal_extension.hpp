@@ -42,9 +42,13 @@ class NormalExtension {
     /// 4-point Lagrange interpolant (otherwise trilinear, as Gs always is).
     /// `area_filter` (reference map): J of the rebuilt strain low-passed over the valid cells
     /// near the surface, every band cell's Gs rescaled to the J at its foot point.
+    /// `newton_foot`: the foot point and the distance the map's gradient is corrected for
+    /// are psi / |grad psi| along the normal (one Newton step onto phi = 1/2, exact where psi
+    /// is a distance times a constant), not psi: a drawn-out profile (|grad psi| < 1) then
+    /// still finds its surface (docs/method.md, "What tears the trailing rim").
     NormalExtension(const HaloFiller& halos, const std::string& body_name, real eps_cells,
                     real core_cells, real reach_cells = -1, bool cubic_map = true,
-                    bool area_filter = false);
+                    bool area_filter = false, bool newton_foot = false);
 
     /// Replace Gs on the body's patch as described above; fills Gs's halos. Collective.
     void apply(Body& body);
@@ -94,7 +98,11 @@ class NormalExtension {
     /// Tensor-product 4-point Lagrange interpolant of a src_ field at x.
     real interpolate_cubic(const Field& f, const Real3& x) const;
     /// psi (s) and unit normal at p; false beyond the reach or where psi is not a distance.
-    bool normal_at(const Int3& p, real& s, Real3& n) const;
+    /// `gradient`: |grad psi| there.
+    bool normal_at(const Int3& p, real& s, Real3& n, real* gradient = nullptr) const;
+    /// The distance from p's centre to its foot point along -n: psi, or psi / |grad psi|
+    /// (newton_foot).
+    real foot_distance(real s, real gradient) const { return newton_foot_ ? s / gradient : s; }
 
     const HaloFiller& halos_;
     real eps_cells_;
@@ -102,6 +110,7 @@ class NormalExtension {
     real reach_cells_;
     bool cubic_map_;
     bool area_filter_;
+    bool newton_foot_;
     int wide_halo_;
     Field psi_;                 ///< eps atanh(1 - 2 phi), halo 1
     std::vector<Field> src_;    ///< Gs (or X - x) after the transport, wide halos
