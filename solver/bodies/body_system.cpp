@@ -123,9 +123,7 @@ void BodySystem::initialise_body(std::size_t i) {
             if (!std::isfinite(phi(a, b, c))) bad = 1;
             phi(a, b, c) = std::clamp(phi(a, b, c), 0.0, 1.0);
         });
-        int any = 0;
-        MPI_Allreduce(&bad, &any, 1, MPI_INT, MPI_MAX, dec_.comm());
-        if (any)
+        if (dec_.max(real(bad)) > 0)
             throw InputError(fmt::format("body '{}': body.mask_file {}: dataset '{}' holds "
                                          "values that are not finite",
                                          bc.name, file.string(), bc.mask_dataset));

@@ -1,7 +1,5 @@
 #include "bodies/contact.hpp"
 
-#include <mpi.h>
-
 #include <algorithm>
 
 namespace efsi {
@@ -40,7 +38,7 @@ std::vector<ContactPairForce> contact_forces(const std::vector<const Body*>& bod
         for (std::size_t j = i + 1; j < bodies.size(); ++j)
             if (near(bodies[i]->patch(), bodies[j]->patch(), 2))
                 pairs.push_back({int(i), int(j), {0, 0, 0}});
-    std::vector<real> local(3 * pairs.size(), 0.0), global(local.size(), 0.0);
+    std::vector<real> local(3 * pairs.size(), 0.0);
     for (std::size_t q = 0; q < pairs.size(); ++q) {
         const Body& bi = *bodies[pairs[q].i];
         const Body& bj = *bodies[pairs[q].j];
@@ -60,12 +58,10 @@ std::vector<ContactPairForce> contact_forces(const std::vector<const Body*>& bod
             }
         });
     }
-    if (!local.empty())
-        MPI_Allreduce(local.data(), global.data(), int(local.size()), MPI_DOUBLE, MPI_SUM,
-                      dec.comm());
+    if (!local.empty()) dec.sum_in_place(local);
     for (std::size_t q = 0; q < pairs.size(); ++q)
         for (int d = 0; d < 3; ++d)
-            pairs[q].force_on_i[d] = global[3 * q + d];
+            pairs[q].force_on_i[d] = local[3 * q + d];
     return pairs;
 }
 
@@ -81,19 +77,19 @@ void add_contact_forces(const std::vector<const Body*>& bodies, const std::vecto
             total[p.j][d] -= p.force_on_i[d];
         }
     // The volumes of the bodies that take a force.
-    std::vector<real> vol(bodies.size(), 0.0), vol_all(bodies.size(), 0.0);
+    std::vector<real> vol(bodies.size(), 0.0);
     for (std::size_t k = 0; k < bodies.size(); ++k) {
         if (held[k] || bodies[k]->patch().empty()) continue;
         const Field& phi = bodies[k]->phi();
         for_each_in(phi.owned(), [&](int a, int b, int c) { vol[k] += phi(a, b, c); });
         vol[k] *= g.cell_volume();
     }
-    MPI_Allreduce(vol.data(), vol_all.data(), int(vol.size()), MPI_DOUBLE, MPI_SUM, dec.comm());
+    dec.sum_in_place(vol);
     for (std::size_t k = 0; k < bodies.size(); ++k) {
-        if (held[k] || !(vol_all[k] > 0) || bodies[k]->patch().empty()) continue;
+        if (held[k] || !(vol[k] > 0) || bodies[k]->patch().empty()) continue;
         const Field& phi = bodies[k]->phi();
         for (int c = 0; c < force.dim; ++c) {
-            const real per_volume = total[k][c] / vol_all[k];
+            const real per_volume = total[k][c] / vol[k];
             if (per_volume == 0) continue;
             for_each_in(phi.owned(), [&](int a, int b, int l) {
                 const Int3 p{a, b, l};

@@ -46,8 +46,8 @@ Patch make_patch(const Box& box, const Decomposition& dec, int halo_width) {
         const bool low_inside = p.global.lo[d] < b.offset[d];
         const bool high_inside = p.global.hi[d] > b.offset[d] + b.cells[d];
         const bool periodic_full = dec.periodic()[d] && full;
-        p.exchange[d][0] = (low_inside || periodic_full) && dec.neighbour(d, 0) != MPI_PROC_NULL;
-        p.exchange[d][1] = (high_inside || periodic_full) && dec.neighbour(d, 1) != MPI_PROC_NULL;
+        p.exchange[d][0] = (low_inside || periodic_full) && dec.has_neighbour(d, 0);
+        p.exchange[d][1] = (high_inside || periodic_full) && dec.has_neighbour(d, 1);
     }
     return p;
 }

@@ -59,6 +59,8 @@ class Decomposition {
     void exchange(Field& f, int d, bool with_low, bool with_high) const;
     /// Rank of the neighbour on side 0 (low) or 1 (high) of direction d (or MPI_PROC_NULL).
     int neighbour(int d, int side) const { return neighbour_[d][side]; }
+    /// Whether there is a neighbouring rank on that side (a wall has none).
+    bool has_neighbour(int d, int side) const { return neighbour_[d][side] != MPI_PROC_NULL; }
 
     real sum(real x) const;
     real max(real x) const;
