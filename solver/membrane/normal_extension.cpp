@@ -188,7 +188,7 @@ bool NormalExtension::foot_on_surface(const Trilinear& at) const {
            kFootTolerance * halos_.decomposition().grid().dx(0);
 }
 
-bool NormalExtension::normal_at(const Int3& p, real& s, Real3& n, real* gradient) const {
+bool NormalExtension::normal_at(const Int3& p, real& s, Real3& n, real& gradient) const {
     const GlobalGrid& g = halos_.decomposition().grid();
     s = psi_(p);
     n = Real3{0, 0, 0};
@@ -200,7 +200,7 @@ bool NormalExtension::normal_at(const Int3& p, real& s, Real3& n, real* gradient
     if (g2 < 0.25) return false;
     for (int d = 0; d < g.dim; ++d)
         n[d] = gp[d] / std::sqrt(g2);
-    if (gradient) *gradient = std::sqrt(g2);
+    gradient = std::sqrt(g2);
     return true;
 }
 
@@ -230,7 +230,7 @@ void NormalExtension::apply_tensor(Body& body, real core_cells, const Field* wei
         Real3 n;
         std::array<std::array<real, 3>, 3> T{};
         real target_j = 0; // > 0: the copy's area ratio J is set to this
-        if (!normal_at(p, s, n, &gradient)) {
+        if (!normal_at(p, s, n, gradient)) {
             for (int s2 = 0; s2 < ncomp; ++s2)
                 G.comp[s2](p) = 0;
             for (int a = 0; a < dim; ++a)
@@ -332,7 +332,7 @@ void NormalExtension::apply_reference_map(Body& body, bool whole_band, const Sha
         const Int3 p{i, j, k};
         real s = 0, gradient = 1;
         Real3 n;
-        if (!normal_at(p, s, n, &gradient)) return;
+        if (!normal_at(p, s, n, gradient)) return;
         const Real3 x = position(g, block, Location::Cell, i, j, k);
         if (whole_band || std::abs(s) > core) {
             Real3 y = x;
@@ -377,7 +377,7 @@ void NormalExtension::apply_reference_map(Body& body, bool whole_band, const Sha
         Real3 n;
         Matrix3 Gm = identity_matrix();
         real ok = 0;
-        if (normal_at(p, s, n, &gradient) && std::abs(s) <= near) {
+        if (normal_at(p, s, n, gradient) && std::abs(s) <= near) {
             Matrix3 gx = identity_matrix();
             for (int a = 0; a < dim; ++a) {
                 const Real3 ga = central_gradient4(X[a], g, p, dim);

@@ -99,7 +99,7 @@ class NormalExtension {
     real interpolate_cubic(const Field& f, const Real3& x) const;
     /// psi (s) and unit normal at p; false beyond the reach or where psi is not a distance.
     /// `gradient`: |grad psi| there.
-    bool normal_at(const Int3& p, real& s, Real3& n, real* gradient = nullptr) const;
+    bool normal_at(const Int3& p, real& s, Real3& n, real& gradient) const;
     /// The distance from p's centre to its foot point along -n: psi, or psi / |grad psi|
     /// (newton_foot).
     real foot_distance(real s, real gradient) const { return newton_foot_ ? s / gradient : s; }
