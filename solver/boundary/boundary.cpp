@@ -55,6 +55,25 @@ void for_plane_pair(Field& f, int d, int to, int from, Op&& op) {
     }
 }
 
+/// The x ghosts of a patch field at its non-exchanged ends, every layer of both ends in one
+/// pass over the rows (layer by layer, as for_plane_pair does for y and z, each pass would
+/// touch every row's first and last cache lines again): ghost l (0 nearest) takes the value
+/// of the owned point l in from that end, the last owned point where the patch is thinner.
+void mirror_x_ends(Field& f, bool low, bool high) {
+    const Int3& e = f.extent();
+    const int n = f.cells()[0], g = f.halo()[0];
+    real* const a = f.data().data();
+    const std::ptrdiff_t rows = std::ptrdiff_t(e[1]) * e[2];
+    for (std::ptrdiff_t r = 0; r < rows; ++r) {
+        real* row = a + r * e[0];
+        for (int l = 0; l < g; ++l) {
+            const int m = std::min(l, n - 1);
+            if (low) row[g - 1 - l] = row[g + m];
+            if (high) row[g + n + l] = row[g + n - 1 - m];
+        }
+    }
+}
+
 } // namespace
 
 void HaloFiller::apply_wall(Field& f, int d, int side, Mirror mirror, real wall_value) const {
@@ -108,6 +127,11 @@ void HaloFiller::fill(Field& f, const Patch& patch) const {
     const Int3 h = f.halo();
     for (int d = 0; d < dec_.dim(); ++d) {
         dec_.exchange(f, d, patch.exchange[d][0], patch.exchange[d][1]);
+        if (d == 0) {
+            if (!patch.exchange[0][0] || !patch.exchange[0][1])
+                mirror_x_ends(f, !patch.exchange[0][0], !patch.exchange[0][1]);
+            continue;
+        }
         for (int side = 0; side < 2; ++side) {
             if (patch.exchange[d][side]) continue;
             for (int l = 0; l < h[d]; ++l) {
