@@ -130,9 +130,19 @@ void BodySystem::initialise_body(std::size_t i) {
     } else {
         if (bc.interface == InterfaceKind::Smoothed) {
             // phi = (1 - tanh(L / eps)) / 2, L the shape's distance-like level function.
+            // Where L is certainly past `cut` (the shape's bounding ball says so) phi is below
+            // the 1e-8 the tail is cut at, so the level (an exact distance for a red cell,
+            // ~100 flops) is not evaluated there: the same phi, for a third of the work.
             const real eps = bc.smoothing_width * g.dx(0);
+            const real cut = 1.001 * eps * std::atanh(1 - 2e-8);
+            const real rb = shape->bounding_radius();
+            const Real3 centre = shape->centre();
             for_each_in(phi.owned(), [&](int a, int b, int c) {
                 const Real3 x = position(g, dec_.block(), Location::Cell, a, b, c);
+                if (std::hypot(x[0] - centre[0], x[1] - centre[1], x[2] - centre[2]) - rb > cut) {
+                    phi(a, b, c) = 0;
+                    return;
+                }
                 const real v = 0.5 * (1 - std::tanh(shape->level(x) / eps));
                 phi(a, b, c) = v < 1e-8 ? 0.0 : v; // the tail is cut ~9 eps out
             });

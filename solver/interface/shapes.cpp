@@ -153,6 +153,14 @@ class BiconcaveDistance final : public Shape {
         : Shape(c, rot), k_(k), disc_(Real3{0, 0, 0}, identity_rotation(), k),
           sample_(samples_for(k)) {}
     bool level_bounds_distance() const override { return true; }
+    // The level is the distance, and the disc lies within rho <= R0, |z| <= the meridian's
+    // largest height (its samples' largest, 1 % added for the curve between them).
+    real bounding_radius() const override {
+        real zmax = 0;
+        for (const auto& c : *sample_)
+            zmax = std::max(zmax, c[1]);
+        return std::hypot(k_.r0, 1.01 * zmax);
+    }
     real exact_volume() const override { return disc_.exact_volume(); }
     std::string describe() const override {
         return fmt::format("biconcave_disc_distance(R0={:.6g})", k_.r0);

@@ -77,6 +77,11 @@ class Shape {
     }
     /// True when |level| never exceeds the distance to the surface.
     virtual bool level_bounds_distance() const = 0;
+    /// A radius r_b with level(x) >= |x - centre()| - r_b everywhere (the level function is
+    /// at least the distance to the ball that holds the body), so that a caller can skip
+    /// points far from the body without evaluating an expensive level; infinite (the
+    /// default) where the shape offers no such bound.
+    virtual real bounding_radius() const { return std::numeric_limits<real>::infinity(); }
     /// Exact volume (3D) for checks; 2D shapes return their area.
     virtual real exact_volume() const = 0;
     virtual std::string describe() const = 0;
