@@ -132,7 +132,7 @@ void BodySystem::initialise_body(std::size_t i) {
             // phi = (1 - tanh(L / eps)) / 2, L the shape's distance-like level function.
             // Where L is certainly past `cut` (the shape's bounding ball says so) phi is below
             // the 1e-8 the tail is cut at, so the level (an exact distance for a red cell,
-            // ~100 flops) is not evaluated there: the same phi, for a third of the work.
+            // ~100 flops) is not evaluated there: the same phi.
             const real eps = bc.smoothing_width * g.dx(0);
             const real cut = 1.001 * eps * std::atanh(1 - 2e-8);
             const real rb = shape->bounding_radius();

@@ -145,6 +145,37 @@ TEST(Shapes, BiconcaveDistanceIsTheSignedDistanceOfTheDisc) {
     EXPECT_GT(n, 100);
 }
 
+// Shape::bounding_radius is a promise the first phi of a smoothed body relies on to skip
+// cells: level(x) >= |x - c| - r_b everywhere. Checked for the tilted, shifted red cell at
+// points all round it, near and far; no point of the surface lies outside the ball, and the
+// ball is not needlessly large: it holds the cylinder rho <= R0, |z| <= the disc's largest
+// half-thickness (1.29 um), whose edge lies 5.3 % beyond the rim, so within 6 % of the
+// farthest surface point (the rim).
+TEST(Shapes, BiconcaveDistanceBoundingBallHoldsTheCell) {
+    const real r0 = 3.91e-6;
+    const Matrix3 rot = axis_angle_rotation({1, 0.3, -0.2}, 0.7);
+    const Real3 c{1e-6, -2e-6, 0.5e-6};
+    const auto s = make_biconcave_distance(c, rot);
+    const real rb = s->bounding_radius();
+    EXPECT_TRUE(std::isfinite(rb));
+    EXPECT_TRUE(std::isinf(make_ellipsoid(c, {r0, r0, r0})->bounding_radius()));
+    real farthest = 0;
+    for (int q = 0; q < 4000; ++q) {
+        const real scale = 0.2 + 2.5 * (q % 50) / 50.0; // 0.2 .. 2.7 r0 from the centre
+        const Real3 dir{std::sin(1.3 * q) * std::cos(0.37 * q),
+                        std::sin(1.3 * q) * std::sin(0.37 * q), std::cos(1.3 * q)};
+        Real3 x;
+        for (int d = 0; d < 3; ++d)
+            x[d] = c[d] + scale * r0 * dir[d];
+        const real dist = std::hypot(x[0] - c[0], x[1] - c[1], x[2] - c[2]);
+        EXPECT_GE(s->level(x), dist - rb - 1e-12 * r0);
+        const Real3 y = s->closest_point(x);
+        farthest = std::max(farthest, std::hypot(y[0] - c[0], y[1] - c[1], y[2] - c[2]));
+    }
+    EXPECT_LE(farthest, rb);
+    EXPECT_GT(farthest, rb / 1.06);
+}
+
 namespace {
 /// A tilted, shifted red cell (its distance), a sphere and an ellipsoid of the cell's size.
 struct TiltedShapes {
