@@ -61,15 +61,21 @@ class PointGrid {
         for (int d = 0; d < 3; ++d)
             n_[d] = std::max<std::int64_t>(1, std::int64_t(std::ceil((hi[d] - lo[d]) / cell_)));
         cells_.resize(std::size_t(n_[0] * n_[1] * n_[2]));
+        visited_.assign(cells_.size(), 0);
     }
     void add(int body, const std::vector<Real3>& pts) {
         for (const Real3& p : pts)
             cells_[index(p)].push_back({p, body});
     }
+    /// Take body's points out: each cell they fall in is filtered once (a cell holds many
+    /// points of one surface, so filtering it per point would scan it again and again).
     void remove(int body, const std::vector<Real3>& pts) {
+        ++visit_;
         for (const Real3& p : pts) {
-            auto& c = cells_[index(p)];
-            std::erase_if(c, [body](const Entry& e) { return e.body == body; });
+            const std::size_t c = index(p);
+            if (visited_[c] == visit_) continue;
+            visited_[c] = visit_;
+            std::erase_if(cells_[c], [body](const Entry& e) { return e.body == body; });
         }
     }
     /// True when a point of a body other than `self` lies closer than r (<= reach) to p.
@@ -106,6 +112,8 @@ class PointGrid {
     real cell_;
     std::array<std::int64_t, 3> n_{};
     std::vector<std::vector<Entry>> cells_;
+    std::vector<std::uint64_t> visited_; ///< per cell: the last remove() that filtered it
+    std::uint64_t visit_ = 0;
 };
 
 void validate(const SeedingRequest& r) {
@@ -178,8 +186,13 @@ enum Stream : std::uint64_t {
 class Packing {
   public:
     Packing(const SeedingRequest& r, real h) : r_(r), reach_(r.gap + h) {
-        for (const auto& k : r.kinds)
+        for (const auto& k : r.kinds) {
             lattice_.push_back(surface_lattice(k, h));
+            real far = 0;
+            for (const Real3& y : lattice_.back())
+                far = std::max(far, std::sqrt(dist2(y, Real3{0, 0, 0})));
+            lattice_radius_.push_back(far);
+        }
         real rb = 0;
         for (const auto& k : r.kinds)
             rb = std::max(rb, k.bounding_radius);
@@ -208,11 +221,14 @@ class Packing {
             if (centre[d] < r_.box_lo[d] || centre[d] > r_.box_hi[d]) return false;
         pts_.clear();
         pts_.reserve(lattice_[kind].size());
+        const bool region_holds_ball = ball_in_region(centre, lattice_radius_[kind]);
         for (const Real3& y : lattice_[kind]) {
             const Real3 d = apply(rot, y);
             const Real3 x{centre[0] + d[0], centre[1] + d[1], centre[2] + d[2]};
-            const real lv = r_.region->level(x);
-            if (region_is_distance_ ? lv > -r_.gap : lv >= 0) return false;
+            if (!region_holds_ball) {
+                const real lv = r_.region->level(x);
+                if (region_is_distance_ ? lv > -r_.gap : lv >= 0) return false;
+            }
             pts_.push_back(x);
         }
         for (const Real3& x : pts_)
@@ -270,10 +286,22 @@ class Packing {
     std::vector<SeededBody> bodies;
 
   private:
+    /// Whether every point within `radius` of `centre` passes the region test, decided
+    /// from the centre alone: a level that bounds the distance is 1-Lipschitz, so
+    /// level(x) <= level(centre) + radius there. The margin (1e-9 of the lengths involved,
+    /// far above the level's round-off) keeps every answer the per-point test would give.
+    bool ball_in_region(const Real3& centre, real radius) const {
+        if (!region_is_distance_) return false;
+        const real lc = r_.region->level(centre);
+        const real scale = std::abs(lc) + radius + r_.gap + 1;
+        return lc + radius + r_.gap < -1e-9 * scale;
+    }
+
     const SeedingRequest& r_;
     real reach_;
     bool region_is_distance_ = false;
     std::vector<std::vector<Real3>> lattice_; ///< per kind, in body coordinates
+    std::vector<real> lattice_radius_;        ///< per kind: the farthest lattice point
     std::unique_ptr<PointGrid> grid_;
     std::vector<std::vector<Real3>> points_; ///< per body, in the lab frame
     std::vector<std::unique_ptr<Shape>> shapes_;
