@@ -38,16 +38,14 @@ real BodyPhysics::restore_profile(Body&, const BodyStep&) {
 
 void BodyPhysics::extend_tensor(Body&, const BodyStep&) {}
 
-VofStepStats BodyPhysics::advance(Body& body, const BodyStep& s) {
-    // The tensors first, with the velocity gradient of this step; then phi.
+void BodyPhysics::advance_tensor(Body& body, const BodyStep& s) {
     if (!body.tensor().comp.empty()) carry_tensor(body, s);
-    VofStepStats local;
-    s.timers.time("bodies_vof", [&] {
-        local = vof_->advance_local(body.phi(), s.u, s.dt, s.step, &body.patch());
-    });
-    local.clipped_volume += restore_profile(body, s);
+}
+
+real BodyPhysics::finish_advance(Body& body, const BodyStep& s) {
+    const real clipped = restore_profile(body, s);
     extend_tensor(body, s);
-    return local;
+    return clipped;
 }
 
 std::unique_ptr<BodyPhysics> make_body_physics(const BodyConfig& body, const BodyContext& ctx) {

@@ -70,10 +70,13 @@ class BodyPhysics {
     /// whether the body is so held.
     virtual bool add_pinning(const Body& body, Field& chi) const;
 
-    /// Carry the body over one flow step: the tensor with the velocity gradient of the step,
-    /// then phi (and its profile's restoration), then the tensor's extension. Returns this rank's
-    /// VOF statistics (reduced by the caller after every body has advanced).
-    VofStepStats advance(Body& body, const BodyStep& step);
+    /// Carry the body over one flow step, in three parts that the caller runs for every body
+    /// in turn (BodySystem::advance): the tensor with the velocity gradient of the step
+    /// (advance_tensor); then phi, by vof()'s sweeps; then phi's profile restoration and the
+    /// tensor's extension (finish_advance, which returns the volume this rank clipped).
+    void advance_tensor(Body& body, const BodyStep& step);
+    VofAdvection& vof() { return *vof_; }
+    real finish_advance(Body& body, const BodyStep& step);
 
     /// The body's explicit time-step limits, each named (empty: none).
     const std::vector<TimeStepLimit>& time_step_limits() const { return limits_; }

@@ -288,8 +288,33 @@ void BodySystem::advance(const VelocityField& u, real dt, long step, StageTimers
     if (surface_velocity_)
         timers.time("bodies_surface_velocity", [&] { surface_velocity_->load(u); });
     const BodyStep s{u, dt, step, timers, surface_velocity_.get()};
+    std::vector<std::size_t> moving;
     for (std::size_t i = 0; i < bodies_.size(); ++i)
-        if (physics_[i]->moves()) local[i] = physics_[i]->advance(*bodies_[i], s);
+        if (physics_[i]->moves()) moving.push_back(i);
+    // The tensors first, with the velocity gradient of this step; then phi, sweep by sweep
+    // over all bodies with one halo fill for all of them after each sweep (a body shared
+    // with another rank would otherwise make each rank wait for the other at each of its
+    // sweeps: measured, capillary_coarse on 2 ranks, a third of the VOF's time); then the
+    // profiles and the tensors' extensions. Each body's arithmetic is as body by body.
+    for (std::size_t i : moving)
+        physics_[i]->advance_tensor(*bodies_[i], s);
+    timers.time("bodies_vof", [&] {
+        std::vector<Field*> phis;
+        std::vector<const Patch*> patches;
+        for (std::size_t i : moving) {
+            local[i] = physics_[i]->vof().start(bodies_[i]->phi(), &bodies_[i]->patch());
+            phis.push_back(&bodies_[i]->phi());
+            patches.push_back(&bodies_[i]->patch());
+        }
+        for (int sweep = 0; sweep < dec_.dim(); ++sweep) {
+            for (std::size_t i : moving)
+                physics_[i]->vof().sweep_step(bodies_[i]->phi(), u, dt, step, sweep,
+                                              &bodies_[i]->patch(), local[i]);
+            halos_.fill(phis, patches);
+        }
+    });
+    for (std::size_t i : moving)
+        local[i].clipped_volume += physics_[i]->finish_advance(*bodies_[i], s);
     timers.time("bodies_vof_reduce", [&] {
         for (std::size_t i = 0; i < bodies_.size(); ++i)
             if (physics_[i]->moves())

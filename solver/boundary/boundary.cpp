@@ -122,25 +122,46 @@ void HaloFiller::fill(Field& f) const {
 }
 
 void HaloFiller::fill(Field& f, const Patch& patch) const {
-    if (patch.empty()) return;
-    const Int3 n = f.cells();
-    const Int3 h = f.halo();
-    for (int d = 0; d < dec_.dim(); ++d) {
-        dec_.exchange(f, d, patch.exchange[d][0], patch.exchange[d][1]);
-        if (d == 0) {
-            if (!patch.exchange[0][0] || !patch.exchange[0][1])
-                mirror_x_ends(f, !patch.exchange[0][0], !patch.exchange[0][1]);
-            continue;
+    Field* one[] = {&f};
+    const Patch* of[] = {&patch};
+    fill(one, of);
+}
+
+void HaloFiller::fill(std::span<Field* const> fields, std::span<const Patch* const> patches) const {
+    std::vector<Field*> live;
+    std::vector<const Patch*> live_patch;
+    for (std::size_t q = 0; q < fields.size(); ++q)
+        if (!patches[q]->empty()) {
+            live.push_back(fields[q]);
+            live_patch.push_back(patches[q]);
         }
-        for (int side = 0; side < 2; ++side) {
-            if (patch.exchange[d][side]) continue;
-            for (int l = 0; l < h[d]; ++l) {
-                // Storage indices along d (from the first halo layer) of the ghost and of
-                // the owned point it mirrors.
-                const int m = std::min(l, n[d] - 1);
-                const int ghost = side == 0 ? h[d] - 1 - l : h[d] + n[d] + l;
-                const int mirror = side == 0 ? h[d] + m : h[d] + n[d] - 1 - m;
-                for_plane_pair(f, d, ghost, mirror, [](real& v, real s) { v = s; });
+    std::vector<std::array<bool, 2>> with(live.size());
+    for (int d = 0; d < dec_.dim(); ++d) {
+        for (std::size_t q = 0; q < live.size(); ++q)
+            with[q] = live_patch[q]->exchange[d];
+        dec_.exchange_all(live, with, d);
+        // Elsewhere (the patch's edge, a wall) the ghosts mirror the owned values, before
+        // the next direction's exchange carries them into the edge and corner halos.
+        for (std::size_t q = 0; q < live.size(); ++q) {
+            Field& f = *live[q];
+            const Patch& patch = *live_patch[q];
+            if (d == 0) {
+                if (!patch.exchange[0][0] || !patch.exchange[0][1])
+                    mirror_x_ends(f, !patch.exchange[0][0], !patch.exchange[0][1]);
+                continue;
+            }
+            const Int3 n = f.cells();
+            const Int3 h = f.halo();
+            for (int side = 0; side < 2; ++side) {
+                if (patch.exchange[d][side]) continue;
+                for (int l = 0; l < h[d]; ++l) {
+                    // Storage indices along d (from the first halo layer) of the ghost and
+                    // of the owned point it mirrors.
+                    const int m = std::min(l, n[d] - 1);
+                    const int ghost = side == 0 ? h[d] - 1 - l : h[d] + n[d] + l;
+                    const int mirror = side == 0 ? h[d] + m : h[d] + n[d] - 1 - m;
+                    for_plane_pair(f, d, ghost, mirror, [](real& v, real s) { v = s; });
+                }
             }
         }
     }

@@ -17,6 +17,7 @@
 
 #include <array>
 #include <limits>
+#include <span>
 #include <string>
 
 namespace efsi {
@@ -57,6 +58,11 @@ class HaloFiller {
     /// neighbouring rank; elsewhere (patch edge or wall) mirror the owned values (zero
     /// normal gradient), which extends body fields into the halo.
     void fill(Field& f, const Patch& patch) const;
+    /// fill(fields[q], *patches[q]) for several patch fields at once (say one per body):
+    /// each direction's messages of all of them are posted before any is waited for
+    /// (Decomposition::exchange_all), so a rank waits once per direction, not per field.
+    /// Every rank must pass the fields in the same order.
+    void fill(std::span<Field* const> fields, std::span<const Patch* const> patches) const;
     /// Velocity: wall rules for normal and tangential components.
     void fill(VelocityField& v) const;
 

@@ -256,10 +256,6 @@ void VofAdvection::sweep_rows(Field& phi, const VelocityField& u, real dt, int d
     local.min_before_clip = lo_v;
     local.max_before_clip = hi_v;
     local.clipped_volume = clipped_sum;
-    if (patch)
-        halos_.fill(phi, *patch);
-    else
-        halos_.fill(phi);
 }
 
 void VofAdvection::sweep(Field& phi, const VelocityField& u, real dt, int d, const Patch* patch,
@@ -295,10 +291,6 @@ void VofAdvection::sweep(Field& phi, const VelocityField& u, real dt, int d, con
         }
         phi(p) = v;
     });
-    if (patch)
-        halos_.fill(phi, *patch);
-    else
-        halos_.fill(phi);
 }
 
 VofStepStats VofAdvection::advance(Field& phi, const VelocityField& u, real dt, std::int64_t step,
@@ -308,6 +300,18 @@ VofStepStats VofAdvection::advance(Field& phi, const VelocityField& u, real dt, 
 
 VofStepStats VofAdvection::advance_local(Field& phi, const VelocityField& u, real dt,
                                          std::int64_t step, const Patch* patch) {
+    VofStepStats local = start(phi, patch);
+    for (int s = 0; s < halos_.decomposition().dim(); ++s) {
+        sweep_step(phi, u, dt, step, s, patch, local);
+        if (patch)
+            halos_.fill(phi, *patch);
+        else
+            halos_.fill(phi);
+    }
+    return local;
+}
+
+VofStepStats VofAdvection::start(Field& phi, const Patch* patch) {
     const int dim = halos_.decomposition().dim();
     // Work arrays follow phi's box (the whole block, or a body's moving patch).
     if (chi_.begin() != phi.begin() || chi_.cells() != phi.cells() || chi_.data().empty()) {
@@ -317,18 +321,21 @@ VofStepStats VofAdvection::advance_local(Field& phi, const VelocityField& u, rea
     VofStepStats local;
     local.min_before_clip = 0;
     local.max_before_clip = 1;
-    if (!(patch && patch->empty())) {
+    if (!(patch && patch->empty()))
         for_each_in(phi.owned(),
                     [&](int i, int j, int k) { chi_(i, j, k) = phi(i, j, k) >= 0.5 ? 1.0 : 0.0; });
-        for (int s = 0; s < dim; ++s) {
-            const int d = (step % 2 == 0) ? s : dim - 1 - s;
-            if (opt_.pointwise)
-                sweep(phi, u, dt, d, patch, local);
-            else
-                sweep_rows(phi, u, dt, d, patch, local);
-        }
-    }
     return local;
+}
+
+void VofAdvection::sweep_step(Field& phi, const VelocityField& u, real dt, std::int64_t step, int s,
+                              const Patch* patch, VofStepStats& local) {
+    if (patch && patch->empty()) return;
+    const int dim = halos_.decomposition().dim();
+    const int d = (step % 2 == 0) ? s : dim - 1 - s;
+    if (opt_.pointwise)
+        sweep(phi, u, dt, d, patch, local);
+    else
+        sweep_rows(phi, u, dt, d, patch, local);
 }
 
 VofStepStats VofAdvection::reduce(const Decomposition& dec, const VofStepStats& local) {

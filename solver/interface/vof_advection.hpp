@@ -85,6 +85,15 @@ class VofAdvection {
     VofStepStats advance_local(Field& phi, const VelocityField& u, real dt, std::int64_t step,
                                const Patch* patch = nullptr);
 
+    /// advance_local in parts, for many bodies at once (BodySystem::advance): start() once,
+    /// then for s = 0 .. dim - 1 sweep_step(s) followed by the fill of phi's halos, which
+    /// the caller does for every body together (HaloFiller's fill of many patch fields), so
+    /// that a rank waits for its neighbours once per sweep, not once per body and sweep.
+    /// The same arithmetic as advance_local, which is start, then each sweep and its fill.
+    VofStepStats start(Field& phi, const Patch* patch);
+    void sweep_step(Field& phi, const VelocityField& u, real dt, std::int64_t step, int s,
+                    const Patch* patch, VofStepStats& local);
+
     /// Global statistics from every rank's local ones (collective). Throws RunError when
     /// a Courant number reached 1/2.
     static VofStepStats reduce(const Decomposition& dec, const VofStepStats& local);
@@ -92,7 +101,8 @@ class VofAdvection {
     const VofOptions& options() const { return opt_; }
 
   private:
-    /// One sweep in direction d; returns (min, max, clipped amount) locally.
+    /// One sweep in direction d; returns (min, max, clipped amount) locally. phi's halos
+    /// are left for the caller to fill.
     void sweep(Field& phi, const VelocityField& u, real dt, int d, const Patch* patch,
                VofStepStats& local);
     /// The same sweep as rows along d with plain pointers (the default).

@@ -94,31 +94,37 @@ void Decomposition::exchange(Field& f, int d) const {
     exchange(f, d, neighbour_[d][0] != MPI_PROC_NULL, neighbour_[d][1] != MPI_PROC_NULL);
 }
 
-void Decomposition::exchange(Field& f, int d, bool with_low, bool with_high) const {
-    const int g = f.halo()[d];
-    if (g == 0) return;
-    const Int3 b = f.begin();
-    const Int3 n = f.cells();
-    const Int3 h = f.halo();
-    // A patch owns at least g layers wherever it exists (bodies/patch.cpp sees to it).
-    // The slab spans the full extent (halos included) of the other directions, so that
-    // exchanging x, then y, then z also fills edge and corner halos.
-    Int3 lo{b[0] - h[0], b[1] - h[1], b[2] - h[2]};
-    Int3 hi{b[0] + n[0] + h[0], b[1] + n[1] + h[1], b[2] + n[2] + h[2]};
-    lo[d] = 0;
-    hi[d] = g;
-    const std::size_t count = std::size_t(hi[0] - lo[0]) * (hi[1] - lo[1]) * (hi[2] - lo[2]);
+namespace {
 
-    // The slab's rows along x are contiguous in memory: copy them whole.
-    const std::size_t row = std::size_t(hi[0] - lo[0]);
-    real* data = f.data().data();
-    auto row_at = [&](int start, int j, int k) {
+/// The halo slabs of a field along d: g layers spanning the full extent (halos included)
+/// of the other directions, so that exchanging x, then y, then z also fills edge and
+/// corner halos. Its rows along x are contiguous in memory and copied whole.
+struct HaloSlabs {
+    Field& f;
+    int d, g;
+    Int3 lo, hi;
+    std::size_t count = 0, row = 0;
+    int first = 0, last = 0; ///< owned range [first, last) along d
+
+    HaloSlabs(Field& field, int dir) : f(field), d(dir), g(field.halo()[dir]) {
+        const Int3 b = f.begin(), n = f.cells(), h = f.halo();
+        // A patch owns at least g layers wherever it exists (bodies/patch.cpp sees to it).
+        lo = {b[0] - h[0], b[1] - h[1], b[2] - h[2]};
+        hi = {b[0] + n[0] + h[0], b[1] + n[1] + h[1], b[2] + n[2] + h[2]};
+        lo[d] = 0;
+        hi[d] = g;
+        count = std::size_t(hi[0] - lo[0]) * (hi[1] - lo[1]) * (hi[2] - lo[2]);
+        row = std::size_t(hi[0] - lo[0]);
+        first = b[d];
+        last = b[d] + n[d];
+    }
+    real* row_at(int start, int j, int k) const {
         Int3 p{lo[0], j, k};
         p[d] += start;
-        return data + f.index(p[0], p[1], p[2]);
-    };
-    // Copy the slab starting at layer `start` along d to (pack) or from (unpack) a buffer.
-    auto transfer = [&](int start, bool pack, real* buffer) {
+        return f.data().data() + f.index(p[0], p[1], p[2]);
+    }
+    /// Copy the slab starting at layer `start` along d to (pack) or from (unpack) a buffer.
+    void transfer(int start, bool pack, real* buffer) const {
         std::size_t c = 0;
         for (int k = lo[2]; k < hi[2]; ++k)
             for (int j = lo[1]; j < hi[1]; ++j, c += row) {
@@ -128,13 +134,10 @@ void Decomposition::exchange(Field& f, int d, bool with_low, bool with_high) con
                 else
                     std::copy(buffer + c, buffer + c + row, r);
             }
-    };
-    const int low = with_low ? neighbour_[d][0] : MPI_PROC_NULL;
-    const int high = with_high ? neighbour_[d][1] : MPI_PROC_NULL;
-    const int first = b[d], last = b[d] + n[d]; // owned range [first, last)
-    if (low == rank_ && high == rank_) {
-        // Periodic with one rank along d: the halos are copies of the own far layers (the
-        // values MPI would carry to this same rank), with no message.
+    }
+    /// Periodic with one rank along d: the halos are copies of the own far layers (the
+    /// values MPI would carry to this same rank), with no message.
+    void wrap() const {
         for (int k = lo[2]; k < hi[2]; ++k)
             for (int j = lo[1]; j < hi[1]; ++j) {
                 const real* a = row_at(first, j, k);
@@ -145,27 +148,77 @@ void Decomposition::exchange(Field& f, int d, bool with_low, bool with_high) con
                 const real* a = row_at(last - g, j, k);
                 std::copy(a, a + row, row_at(first - g, j, k));
             }
-        return;
     }
-    // No neighbour on either side (a wall, or the edge of a body's patch): nothing to send
-    // or receive.
-    if (low == MPI_PROC_NULL && high == MPI_PROC_NULL) return;
-    send_.resize(count);
-    recv_.resize(count);
-    send_up_.resize(count);
-    recv_up_.resize(count);
+};
+
+} // namespace
+
+void Decomposition::exchange(Field& f, int d, bool with_low, bool with_high) const {
+    Field* one[] = {&f};
+    const std::array<bool, 2> with[] = {{with_low, with_high}};
+    exchange_all(one, with, d);
+}
+
+void Decomposition::exchange_all(std::span<Field* const> fields,
+                                 std::span<const std::array<bool, 2>> with, int d) const {
+    // Every message of every field is posted before any is waited for. Between two ranks
+    // the messages of one tag arrive in the order they were sent, and both ranks list the
+    // fields they share in the same order (the caller's), so each receive meets its send.
+    struct Pending {
+        HaloSlabs slabs;
+        int low, high;
+        std::vector<real>* buf; ///< 4 buffers: down send, up send, from high, from low
+    };
+    std::vector<Pending> pending;
+    pending.reserve(fields.size());
+    for (std::size_t q = 0; q < fields.size(); ++q) {
+        HaloSlabs slabs(*fields[q], d);
+        if (slabs.g == 0) continue;
+        const int low = with[q][0] ? neighbour_[d][0] : MPI_PROC_NULL;
+        const int high = with[q][1] ? neighbour_[d][1] : MPI_PROC_NULL;
+        if (low == rank_ && high == rank_) {
+            slabs.wrap();
+            continue;
+        }
+        // No neighbour on either side (a wall, or the edge of a body's patch): nothing to
+        // send or receive.
+        if (low == MPI_PROC_NULL && high == MPI_PROC_NULL) continue;
+        pending.push_back({slabs, low, high, nullptr});
+    }
+    if (pending.empty()) return;
+    if (buffers_.size() < 4 * pending.size()) buffers_.resize(4 * pending.size());
+    for (std::size_t q = 0; q < pending.size(); ++q) {
+        pending[q].buf = &buffers_[4 * q];
+        for (int b = 0; b < 4; ++b)
+            pending[q].buf[b].resize(pending[q].slabs.count);
+    }
+    std::vector<MPI_Request> req;
+    req.reserve(4 * pending.size());
     // Both directions at once: my first g layers go down (and my high halo comes from
     // above), my last g layers go up (and my low halo comes from below).
-    MPI_Request req[4];
-    MPI_Irecv(recv_.data(), int(count), mpi_real(), high, 10 + d, cart_, &req[0]);
-    MPI_Irecv(recv_up_.data(), int(count), mpi_real(), low, 20 + d, cart_, &req[1]);
-    if (low != MPI_PROC_NULL) transfer(first, true, send_.data());
-    MPI_Isend(send_.data(), int(count), mpi_real(), low, 10 + d, cart_, &req[2]);
-    if (high != MPI_PROC_NULL) transfer(last - g, true, send_up_.data());
-    MPI_Isend(send_up_.data(), int(count), mpi_real(), high, 20 + d, cart_, &req[3]);
-    MPI_Waitall(4, req, MPI_STATUSES_IGNORE);
-    if (high != MPI_PROC_NULL) transfer(last, false, recv_.data());
-    if (low != MPI_PROC_NULL) transfer(first - g, false, recv_up_.data());
+    for (Pending& p : pending) {
+        const int count = int(p.slabs.count);
+        req.emplace_back();
+        MPI_Irecv(p.buf[2].data(), count, mpi_real(), p.high, 10 + d, cart_, &req.back());
+        req.emplace_back();
+        MPI_Irecv(p.buf[3].data(), count, mpi_real(), p.low, 20 + d, cart_, &req.back());
+    }
+    for (Pending& p : pending) {
+        const int count = int(p.slabs.count);
+        if (p.low != MPI_PROC_NULL) p.slabs.transfer(p.slabs.first, true, p.buf[0].data());
+        req.emplace_back();
+        MPI_Isend(p.buf[0].data(), count, mpi_real(), p.low, 10 + d, cart_, &req.back());
+        if (p.high != MPI_PROC_NULL)
+            p.slabs.transfer(p.slabs.last - p.slabs.g, true, p.buf[1].data());
+        req.emplace_back();
+        MPI_Isend(p.buf[1].data(), count, mpi_real(), p.high, 20 + d, cart_, &req.back());
+    }
+    MPI_Waitall(int(req.size()), req.data(), MPI_STATUSES_IGNORE);
+    for (Pending& p : pending) {
+        if (p.high != MPI_PROC_NULL) p.slabs.transfer(p.slabs.last, false, p.buf[2].data());
+        if (p.low != MPI_PROC_NULL)
+            p.slabs.transfer(p.slabs.first - p.slabs.g, false, p.buf[3].data());
+    }
 }
 
 real Decomposition::sum(real x) const {

@@ -57,6 +57,12 @@ class Decomposition {
     /// The same for a field on a patch (a sub-box of the block): exchange only with the
     /// neighbours asked for. Both sides of a rank boundary must agree (see bodies/patch.hpp).
     void exchange(Field& f, int d, bool with_low, bool with_high) const;
+    /// exchange(fields[q], d, with[q][0], with[q][1]) for several fields at once: every
+    /// message is posted before any is waited for, so a rank that shares several patches
+    /// with its neighbours waits once, not patch by patch. Every rank must list the fields
+    /// it shares with a neighbour in the same order (the bodies' order, say).
+    void exchange_all(std::span<Field* const> fields, std::span<const std::array<bool, 2>> with,
+                      int d) const;
     /// Rank of the neighbour on side 0 (low) or 1 (high) of direction d (or MPI_PROC_NULL).
     int neighbour(int d, int side) const { return neighbour_[d][side]; }
     /// Whether there is a neighbouring rank on that side (a wall has none).
@@ -86,7 +92,7 @@ class Decomposition {
     int rank_ = 0;
     int size_ = 1;
     MPI_Comm cart_ = MPI_COMM_NULL;
-    mutable std::vector<real> send_, recv_, send_up_, recv_up_;
+    mutable std::vector<std::vector<real>> buffers_; ///< exchange_all's, 4 per field
 };
 
 } // namespace efsi
