@@ -25,12 +25,12 @@ constexpr double FLOW_BYTES_PER_CELL = 189;
 //   bodies' patch cells: the blood_capillary study's three runs at 64 x 32 x 32
 //   (verification/results/blood_capillary: rate_*).
 constexpr double PROCESS_BYTES = 1.02e+08;
-constexpr double FLOW_SECONDS_HYPRE = 1.51e-06;
+constexpr double FLOW_SECONDS_HYPRE = 1.64e-06;
 constexpr double HELD_BYTES = 11; // phi alone: 8 B per cell plus the patch's halo
-constexpr double SOLID_BYTES = 647;
-constexpr double SOLID_SECONDS = 7.07e-07;
-constexpr double MEMBRANE_BYTES = 718;
-constexpr double MEMBRANE_SECONDS = 3.95e-07;
+constexpr double SOLID_BYTES = 705;
+constexpr double SOLID_SECONDS = 1.09e-06;
+constexpr double MEMBRANE_BYTES = 727;
+constexpr double MEMBRANE_SECONDS = 5.25e-07;
 
 } // namespace
 
