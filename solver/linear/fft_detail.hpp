@@ -158,6 +158,8 @@ struct Transform {
     /// real-to-real (FFTW's r2r kinds), real-to-complex (x, periodic) or complex (a periodic
     /// y or z after a complex x)
     enum class How { R2R, R2C, C2C } how = How::R2R;
+    /// R2C of even length done as a complex DFT of half the length (HalfLengthReal).
+    bool half_length = false;
     fftw_r2r_kind forward = FFTW_R2HC, backward = FFTW_HC2R;
     int first = 0;            ///< first transformed index (1 for wall faces)
     int length = 1;           ///< points transformed
@@ -169,6 +171,28 @@ struct Transform {
 
 } // namespace fft_detail
 
+/// The real-to-complex transform of even length n along rows, done as a complex DFT of
+/// length m = n/2 and one pass in each row: the row's n reals read as m complex numbers
+/// (even entries real parts, odd ones imaginary) hold the DFTs of the even and the odd
+/// samples at once, which `separate` turns into the n/2 + 1 complex values of the real
+/// row's DFT (in place; a row has room for them), and `join` back before the backward
+/// complex DFT (whose output is then n times the row, as FFTW's complex-to-real). FFTW's
+/// own real-to-complex codelets are scalar, its complex ones SIMD.
+class HalfLengthReal {
+  public:
+    explicit HalfLengthReal(int n);
+    /// Forward: row holds Z (m complex, after the complex DFT); it then holds X[0..m].
+    void separate(real* row);
+    /// Backward: row holds X[0..m] (the imaginary parts of X[0] and X[m] are ignored); it
+    /// then holds 2 Z, ready for the backward complex DFT of length m.
+    void join(real* row);
+
+  private:
+    int m_;
+    std::vector<real> wr_, wi_;           ///< exp(-2 pi i k / n), k = 0..m
+    std::vector<real> ar_, ai_, br_, bi_; ///< one row: a value, its mirror (scratch)
+};
+
 struct FftSolver::Impl {
     std::shared_ptr<FftWorkspace> ws;
     std::array<FftDirection, 3> dirs;
@@ -177,7 +201,10 @@ struct FftSolver::Impl {
     real norm = 1;
     real alpha = 0, beta = 1;
     PhaseSeconds seconds;
-    std::array<bool, 3> in_b{}; ///< transformed in slab B (else in slab A)
+    std::array<bool, 3> in_b{};             ///< transformed in slab B (else in slab A)
+    std::unique_ptr<HalfLengthReal> x_half; ///< x: R2C as a half-length complex DFT
+    /// Each row of slab A through x_half's separate (forward) or join (backward).
+    void x_half_pass(bool separate);
     std::vector<real> work;     ///< the tridiagonal solve's modified upper diagonal
     std::vector<real> wall_rhs; ///< right-hand side of the fixed wall faces (identity rows)
     std::vector<real> zero;     ///< a zero row (the one before the first)

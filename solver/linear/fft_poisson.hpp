@@ -16,7 +16,8 @@
 // With alpha = 0 and no zero-value closure the operator is singular; the zero mode of
 // the solution is then set to zero (the caller makes the right-hand side zero-mean).
 //
-// With x periodic, x is transformed real-to-complex and the other periodic directions by
+// With x periodic, x is transformed real-to-complex (an even x as a complex DFT of half the
+// length, HalfLengthReal in fft_detail.hpp) and the other periodic directions by
 // complex DFTs (FFTW's vectorised codelets; its R2HC and DCT/DST kinds are scalar), and a
 // wall direction (y, else z) is not transformed at all: each wavenumber pair of the other
 // directions leaves a tridiagonal system along it, solved by the Thomas algorithm (the

@@ -194,6 +194,10 @@ std::vector<Problem> problems() {
     // An odd number of cells along a periodic x: n/2 + 1 complex numbers per row hold one
     // real more than the row (the Nyquist wavenumber is absent).
     p.push_back({"poisson_periodic_odd_x_3d", Int3{9, 8, 6}, {P, P, P}, 0.0, 1.0});
+    // An even x done as a complex DFT of half the length (HalfLengthReal), here of odd
+    // length 5: no wavenumber is its own mirror.
+    p.push_back({"helmholtz_periodic_x10_3d", Int3{10, 8, 6}, {P, P, P}, 1.0, 0.02});
+    p.push_back({"poisson_channel_x10_2d", Int3{10, 6, 1}, {P, closed(G, G), P}, 0.0, 1.0});
     // Periodic everywhere on several ranks: z is solved as cyclic tridiagonal systems split
     // over the ranks; 10 z cells give slabs of unequal thickness on 3 and 4 ranks.
     p.push_back({"poisson_periodic_uneven_z_3d", Int3{12, 8, 10}, {P, P, P}, 0.0, 1.0});
