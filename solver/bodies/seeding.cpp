@@ -219,20 +219,28 @@ class Packing {
     bool fits(int kind, const Real3& centre, const Matrix3& rot, int self) {
         for (int d = 0; d < 3; ++d)
             if (centre[d] < r_.box_lo[d] || centre[d] > r_.box_hi[d]) return false;
-        pts_.clear();
-        pts_.reserve(lattice_[kind].size());
+        const std::vector<Real3>& lattice = lattice_[kind];
+        const std::size_t count = lattice.size();
+        pts_.resize(count);
         const bool region_holds_ball = ball_in_region(centre, lattice_radius_[kind]);
-        for (const Real3& y : lattice_[kind]) {
-            const Real3 d = apply(rot, y);
+        // Point q placed, inside the region with the gap and not near another body.
+        auto clear = [&](std::size_t q) {
+            const Real3 d = apply(rot, lattice[q]);
             const Real3 x{centre[0] + d[0], centre[1] + d[1], centre[2] + d[2]};
+            pts_[q] = x;
             if (!region_holds_ball) {
                 const real lv = r_.region->level(x);
                 if (region_is_distance_ ? lv > -r_.gap : lv >= 0) return false;
             }
-            pts_.push_back(x);
-        }
-        for (const Real3& x : pts_)
-            if (grid_->near(x, reach_, self)) return false;
+            return !grid_->near(x, reach_, self);
+        };
+        // A sparse subset first (every kSparse-th point, spread over the whole surface): most
+        // refused poses are refused there, before the other points are even placed. The
+        // answer does not depend on the order.
+        for (std::size_t q = 0; q < count; q += kSparse)
+            if (!clear(q)) return false;
+        for (std::size_t q = 0; q < count; ++q)
+            if (q % kSparse != 0 && !clear(q)) return false;
         // Surface points of this body inside another (a body wholly inside another has no
         // surface points near the other's), for the bodies whose bounding spheres meet.
         shape_ = r_.kinds[kind].make(centre, rot);
@@ -297,6 +305,7 @@ class Packing {
         return lc + radius + r_.gap < -1e-9 * scale;
     }
 
+    static constexpr std::size_t kSparse = 29; ///< fits(): the sparse subset's stride
     const SeedingRequest& r_;
     real reach_;
     bool region_is_distance_ = false;
