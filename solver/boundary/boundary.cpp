@@ -183,4 +183,12 @@ void HaloFiller::fill(VelocityField& v) const {
         }
 }
 
+void HaloFiller::fill_normal(VelocityField& v) const {
+    for (int c = 0; c < v.dim; ++c) {
+        dec_.exchange(v[c], c);
+        for (int side = 0; side < 2; ++side)
+            apply_wall(v[c], c, side, Mirror::NormalFace, 0);
+    }
+}
+
 } // namespace efsi

@@ -65,6 +65,10 @@ class HaloFiller {
     void fill(std::span<Field* const> fields, std::span<const Patch* const> patches) const;
     /// Velocity: wall rules for normal and tangential components.
     void fill(VelocityField& v) const;
+    /// Velocity, each component's halos along its own direction only, at the owned
+    /// positions across it (the faces a divergence reads): one exchange per component, not
+    /// one per component and direction. Those halos equal fill(v)'s; the others are left.
+    void fill_normal(VelocityField& v) const;
 
     /// Time at which moving walls are evaluated (oscillating walls depend on it).
     void set_time(real t) { time_ = t; }

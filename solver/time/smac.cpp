@@ -370,7 +370,7 @@ SolveReport SmacStepper::viscous_solve(const FlowState& s, real dt) {
 
 SolveReport SmacStepper::pressure_solve(real dt) {
     const GlobalGrid& g = dec_.grid();
-    halos_.fill(ustar_);
+    halos_.fill_normal(ustar_); // the divergence reads u*_c across its own c-faces only
     const real scale = cfg_.fluid.density / dt;
     sweep::require_same_layout(ustar_[0], rhs_);
     if (pressure_fft_) {

@@ -135,6 +135,37 @@ TEST_P(HaloFill, ScalarAndVelocityHalosFollowTheRules) {
     EXPECT_EQ(u[0].data(), before);
 }
 
+TEST_P(HaloFill, NormalFillEqualsTheFullFillAcrossEachComponentsFaces) {
+    // fill_normal gives u_c's halos along c, at the owned positions across c, the values
+    // of the full fill (what a divergence reads); the full fill is the reference.
+    const HaloCase& s = GetParam();
+    Decomposition dec(MPI_COMM_WORLD, s.grid, periodic_directions(s.bc), s.ranks);
+    HaloFiller halos(dec, s.bc);
+    const LocalBlock& b = dec.block();
+    VelocityField full("velocity", b, s.grid.dim), normal("velocity", b, s.grid.dim);
+    for (int c = 0; c < s.grid.dim; ++c) { // halos start as NaN: one left unfilled shows
+        set_owned(full[c], b, c, s.bc);
+        set_owned(normal[c], b, c, s.bc);
+    }
+    halos.fill(full);
+    halos.fill_normal(normal);
+    long compared = 0, differ = 0;
+    for (int c = 0; c < s.grid.dim; ++c) {
+        const int h = full[c].halo()[c];
+        for_each_cell(b.cells, [&](int i, int j, int k) {
+            Int3 p{i, j, k};
+            if (p[c] != 0) return; // one line along c per owned position across it
+            for (int q = -h; q < b.cells[c] + h; ++q) {
+                p[c] = q;
+                differ += !(full[c](p) == normal[c](p)); // NaN (unfilled) differs too
+                ++compared;
+            }
+        });
+    }
+    EXPECT_GT(compared, 0);
+    EXPECT_EQ(differ, 0);
+}
+
 TEST_P(HaloFill, WallValuesSeenByTheStencils) {
     // The mean of a tangential ghost and its mirror is the wall velocity (no-slip), the
     // difference is zero (free-slip); the normal velocity on the wall face is zero.
