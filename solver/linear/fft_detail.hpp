@@ -188,6 +188,9 @@ class HalfLengthReal {
     void join(real* row);
 
   private:
+    /// ar_, ai_ from the row's first `values` complex numbers (m: the m-th is the 0-th,
+    /// m + 1: all of X[0..m]), and br_, bi_ their conjugates mirrored (index k <- m - k).
+    void load(const real* row, int values);
     int m_;
     std::vector<real> wr_, wi_;           ///< exp(-2 pi i k / n), k = 0..m
     std::vector<real> ar_, ai_, br_, bi_; ///< one row: a value, its mirror (scratch)

@@ -243,18 +243,25 @@ HalfLengthReal::HalfLengthReal(int n)
 // With A = Z[k] and B = conj(Z[m - k]) (Z[m] = Z[0]), the DFTs of the even and odd samples
 // are E = (A + B) / 2 and O = -i (A - B) / 2, and X[k] = E + W^k O. The loops run over
 // plain arrays (a row's values and their mirror) so that they vectorise.
-void HalfLengthReal::separate(real* row) {
+void HalfLengthReal::load(const real* row, int values) {
     const int m = m_;
-    for (int k = 0; k < m; ++k) {
+    for (int k = 0; k < values; ++k) {
         ar_[k] = row[2 * k];
         ai_[k] = row[2 * k + 1];
     }
-    ar_[m] = ar_[0];
-    ai_[m] = ai_[0];
+    if (values == m) { // the m-th value is the 0-th (periodic)
+        ar_[m] = ar_[0];
+        ai_[m] = ai_[0];
+    }
     for (int k = 0; k <= m; ++k) {
         br_[k] = ar_[m - k];
         bi_[k] = -ai_[m - k];
     }
+}
+
+void HalfLengthReal::separate(real* row) {
+    const int m = m_;
+    load(row, m);
     for (int k = 0; k <= m; ++k) {
         const real er = 0.5 * (ar_[k] + br_[k]), ei = 0.5 * (ai_[k] + bi_[k]);
         const real orr = 0.5 * (ai_[k] - bi_[k]), oi = -0.5 * (ar_[k] - br_[k]);
@@ -269,14 +276,7 @@ void HalfLengthReal::join(real* row) {
     const int m = m_;
     row[1] = 0.0; // a real row's X[0] and X[m] are real: their imaginary parts are ignored
     row[2 * m + 1] = 0.0;
-    for (int k = 0; k <= m; ++k) {
-        ar_[k] = row[2 * k];
-        ai_[k] = row[2 * k + 1];
-    }
-    for (int k = 0; k <= m; ++k) {
-        br_[k] = ar_[m - k];
-        bi_[k] = -ai_[m - k];
-    }
+    load(row, m + 1);
     for (int k = 0; k < m; ++k) {
         const real er = ar_[k] + br_[k], ei = ai_[k] + bi_[k];
         const real dr = ar_[k] - br_[k], di = ai_[k] - bi_[k];
