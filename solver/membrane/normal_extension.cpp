@@ -13,6 +13,7 @@
 #include <algorithm>
 #include <array>
 #include <cmath>
+#include <stdexcept>
 
 namespace efsi {
 
@@ -66,7 +67,8 @@ NormalExtension::NormalExtension(const HaloFiller& halos, const std::string& bod
     }
 }
 
-bool NormalExtension::prepare(Body& body, const std::vector<const Field*>& fields) {
+bool NormalExtension::prepare(Body& body, const std::vector<const Field*>& fields,
+                              bool psi_current) {
     const Decomposition& dec = halos_.decomposition();
     const int dim = dec.grid().dim;
     const int ncomp = int(fields.size());
@@ -79,6 +81,8 @@ bool NormalExtension::prepare(Body& body, const std::vector<const Field*>& field
         // largest count and reused, not allocated again at every call.
         const bool moved =
             psi_.data().empty() || psi_.begin() != phi.begin() || psi_.cells() != phi.cells();
+        if (moved && psi_current)
+            throw std::logic_error("NormalExtension: psi marked current on a moved patch");
         if (moved) {
             psi_ = Field::on_patch("psi", Location::Cell, phi.begin(), phi.cells(), dim, 1);
             psi_wide_ = Field::on_patch("psi_wide", Location::Cell, phi.begin(), phi.cells(), dim,
@@ -93,11 +97,13 @@ bool NormalExtension::prepare(Body& body, const std::vector<const Field*>& field
         const int nx = own.hi[0] - own.lo[0];
         for (int k = own.lo[2]; k < own.hi[2]; ++k)
             for (int j = own.lo[1]; j < own.hi[1]; ++j) {
-                const real* f = phi.data().data() + phi.index(own.lo[0], j, k);
-                real* p = &psi_(own.lo[0], j, k);
-                for (int i = 0; i < nx; ++i)
-                    p[i] = profile_distance(f[i], eps);
-                std::copy(p, p + nx, &psi_wide_(own.lo[0], j, k));
+                if (!psi_current) {
+                    const real* f = phi.data().data() + phi.index(own.lo[0], j, k);
+                    real* p = &psi_(own.lo[0], j, k);
+                    for (int i = 0; i < nx; ++i)
+                        p[i] = profile_distance(f[i], eps);
+                    std::copy(p, p + nx, &psi_wide_(own.lo[0], j, k));
+                }
                 for (int s = 0; s < ncomp; ++s) {
                     const real* from = fields[s]->data().data() + fields[s]->index(own.lo[0], j, k);
                     std::copy(from, from + nx, &src_[s](own.lo[0], j, k));
@@ -107,10 +113,12 @@ bool NormalExtension::prepare(Body& body, const std::vector<const Field*>& field
     // Collective: every rank with a part of the patch takes part (the patch's exchange
     // flags pair the ranks).
     if (empty) return false;
-    halos_.fill(psi_, body.patch());
-    halos_.fill(psi_wide_, body.patch());
+    // One round of messages per direction for all of them.
+    std::vector<Field*> all;
+    if (!psi_current) all = {&psi_, &psi_wide_};
     for (int s = 0; s < ncomp; ++s)
-        halos_.fill(src_[s], body.patch());
+        all.push_back(&src_[s]);
+    halos_.fill(all, body.patch());
     return true;
 }
 
@@ -183,6 +191,23 @@ real NormalExtension::interpolate_cubic(const Field& f, const Real3& x) const {
     return r;
 }
 
+real NormalExtension::reachable_foot_distance(const Real3& x, real s, const Real3& n, real gradient,
+                                              int half) const {
+    const real to_foot = foot_distance(s, gradient);
+    if (!newton_foot_) return to_foot;
+    const Decomposition& dec = halos_.decomposition();
+    const GlobalGrid& g = dec.grid();
+    for (int d = 0; d < g.dim; ++d) {
+        const real u =
+            (x[d] - to_foot * n[d] - g.origin[d]) / g.dx(d) - dec.block().offset[d] - 0.5;
+        const int base = int(std::floor(u));
+        const int lo = psi_wide_.begin()[d] - psi_wide_.halo()[d];
+        const int hi = psi_wide_.begin()[d] + psi_wide_.cells()[d] + psi_wide_.halo()[d] - 1;
+        if (base - (half - 1) < lo || base + half > hi) return s;
+    }
+    return to_foot;
+}
+
 bool NormalExtension::foot_on_surface(const Trilinear& at) const {
     return std::abs(interpolate(psi_wide_, at)) <=
            kFootTolerance * halos_.decomposition().grid().dx(0);
@@ -209,7 +234,7 @@ void NormalExtension::apply(Body& body) {
 }
 
 void NormalExtension::apply_tensor(Body& body, real core_cells, const Field* weight,
-                                   const Field* area) {
+                                   const Field* area, bool psi_current) {
     SymmetricTensorField& G = body.tensor();
     if (G.comp.empty()) return;
     std::vector<const Field*> fields;
@@ -217,7 +242,7 @@ void NormalExtension::apply_tensor(Body& body, real core_cells, const Field* wei
         fields.push_back(&c);
     if (weight) fields.push_back(weight);
     if (weight && area) fields.push_back(area);
-    if (!prepare(body, fields)) return;
+    if (!prepare(body, fields, psi_current)) return;
     const Decomposition& dec = halos_.decomposition();
     const GlobalGrid& g = dec.grid();
     const LocalBlock& block = dec.block();
@@ -243,7 +268,7 @@ void NormalExtension::apply_tensor(Body& body, real core_cells, const Field* wei
                     T[a][b] = G.value(a, b, p);
         } else {
             Real3 y = position(g, block, Location::Cell, i, j, k);
-            const real to_foot = foot_distance(s, gradient);
+            const real to_foot = reachable_foot_distance(y, s, n, gradient, 1);
             for (int d = 0; d < dim; ++d)
                 y[d] -= to_foot * n[d];
             // One set of weights serves every component (src_ fields share one layout).
@@ -303,8 +328,7 @@ void NormalExtension::apply_tensor(Body& body, real core_cells, const Field* wei
             }
         }
     });
-    for (Field& c : G.comp)
-        halos_.fill(c, body.patch());
+    halos_.fill(pointers(G.comp), body.patch());
 }
 
 void NormalExtension::apply_reference_map(Body& body, bool whole_band, const Shape* reference) {
@@ -336,7 +360,7 @@ void NormalExtension::apply_reference_map(Body& body, bool whole_band, const Sha
         const Real3 x = position(g, block, Location::Cell, i, j, k);
         if (whole_band || std::abs(s) > core) {
             Real3 y = x;
-            const real to_foot = foot_distance(s, gradient);
+            const real to_foot = reachable_foot_distance(x, s, n, gradient, cubic_map_ ? 2 : 1);
             for (int d = 0; d < dim; ++d)
                 y[d] -= to_foot * n[d];
             // A foot point off the surface (a thin body's middle, where psi's gradient turns)
@@ -355,8 +379,7 @@ void NormalExtension::apply_reference_map(Body& body, bool whole_band, const Sha
         for (int d = 0; d < dim; ++d)
             X[d](p) = on[d] - x[d];
     });
-    for (Field& c : X)
-        halos_.fill(c, body.patch());
+    halos_.fill(pointers(X), body.patch());
     // 2. Gs from grad X = I + grad (X - x) (fourth-order central differences: with second-order
     //    ones the rest state's area ratio came out 0.4 % high at R = 8 cells, a prestress of
     //    0.4 % of the area modulus, 22 % of Es in a Skalak membrane with C = 100) in the band,
@@ -438,8 +461,7 @@ void NormalExtension::apply_reference_map(Body& body, bool whole_band, const Sha
             for (int b = a; b < dim; ++b)
                 G.comp[SymmetricTensorField::slot(a, b, dim)](p) = ok * Gm[a][b];
     });
-    for (Field& c : G.comp)
-        halos_.fill(c, body.patch());
+    halos_.fill(pointers(G.comp), body.patch());
     // 2b. (area_filter) J of the rebuilt Gs, low-passed: the (1, 2, 1)^dim weighted mean over
     //     the valid cells of each valid cell's 3^dim block. Step 3 then sets every band cell's
     //     area ratio to this J at its foot point. J is a scalar, so the mean has no bias from
@@ -479,7 +501,8 @@ void NormalExtension::apply_reference_map(Body& body, bool whole_band, const Sha
     //    grid-scale noise that differences of X and second differences of psi carry (keeping
     //    the cells' own values within one cell of the surface gave tr Gs spikes of 8-27 at the
     //    tips of the d/16 Ca 0.05 capsule, against 2.35 with the copy; docs/method.md).
-    apply_tensor(body, 0.0, &valid_, area_filter_ ? &filtered_area_ratio_ : nullptr);
+    apply_tensor(body, 0.0, &valid_, area_filter_ ? &filtered_area_ratio_ : nullptr,
+                 /*psi_current=*/true);
 }
 
 } // namespace efsi

@@ -73,10 +73,13 @@ class NormalExtension {
     /// apply() with a core of `core_cells`; with `weight`, Gs holds w Gs and the copy is
     /// the mean over the cells with w = 1 of each foot point's stencil; with `area` (w J), each
     /// copy is rescaled to the mean J over those cells.
+    /// `psi_current`: psi_ and psi_wide_ already hold this phi's (an earlier prepare() of the
+    /// same call, phi unchanged since), so prepare() copies the fields only.
     void apply_tensor(Body& body, real core_cells, const Field* weight = nullptr,
-                      const Field* area = nullptr);
+                      const Field* area = nullptr, bool psi_current = false);
     /// psi and a wide-halo copy of `fields` (src_); false on a rank without the patch.
-    bool prepare(Body& body, const std::vector<const Field*>& fields);
+    /// `psi_current`: see apply_tensor.
+    bool prepare(Body& body, const std::vector<const Field*>& fields, bool psi_current = false);
     /// The trilinear stencil at x: the index (in src_'s layout) of its low corner and the
     /// weights of its points, x fastest.
     struct Trilinear {
@@ -103,6 +106,12 @@ class NormalExtension {
     /// The distance from p's centre to its foot point along -n: psi, or psi / |grad psi|
     /// (newton_foot).
     real foot_distance(real s, real gradient) const { return newton_foot_ ? s / gradient : s; }
+    /// foot_distance(), unless the foot point x - d n it gives lies where the interpolation's
+    /// stencil (`half` = 1: trilinear, 2: cubic) would leave the wide-halo copy: then psi.
+    /// The Newton distance psi / |grad psi| can be up to twice the reach (|grad psi| >= 1/2)
+    /// where the wide halo holds one reach; psi's own foot point always fits (constructor).
+    real reachable_foot_distance(const Real3& x, real s, const Real3& n, real gradient,
+                                 int half) const;
 
     const HaloFiller& halos_;
     real eps_cells_;

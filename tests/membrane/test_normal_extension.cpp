@@ -150,3 +150,60 @@ TEST(NormalExtension, ReproducesAFieldConstantAlongNormalsToSecondOrder) {
         EXPECT_EQ(coarse.beyond, 0.0) << "dim " << dim;
     }
 }
+
+// A drawn-out profile (|grad psi| = 1 / 1.9) with Newton foot points: the foot of a band cell
+// is psi / |grad psi| away, up to 1.9 reaches, while the wide-halo copy holds one reach past
+// the rank's block. On two ranks the grid is split in y at 40 cells and the disc's top is at
+// 29, so the upper block's lowest cells (11-14 cells above it, within the band) have their
+// Newton foot below the reach of their copy (10 cells): they must fall back to psi's own foot
+// point (NormalExtension::reachable_foot_distance) instead of reading outside the copy (a
+// wrapped index: memory before the field's storage). Gs is the same constant tensor A in
+// every cell, so any foot point inside the copy interpolates A exactly and every band cell
+// must end as P A P, P the projection on the tangent of psi's own (central-difference) normal.
+TEST(NormalExtension, NewtonFootBeyondTheWideHaloFallsBackToPsisFoot) {
+    const real h = 0.05;
+    const int dim = 2;
+    GridSetup s = efsi::test::make_setup(dim, {48, 80, 1}, h, BoundaryType::Periodic);
+    Body body("disc", BodyKind::Membrane, false, dim);
+    body.allocate(make_patch(Box{{0, 0, 0}, s.g.cells}, *s.dec));
+    const real stretch = 1.9, radius = 4 * h;
+    const Real3 centre{0.0, s.g.origin[1] + 25 * h, 0.0};
+    for_each_in(body.patch().local, [&](int i, int j, int k) {
+        const Real3 x = position(s.g, s.dec->block(), Location::Cell, i, j, k);
+        const real sd = std::hypot(x[0] - centre[0], x[1] - centre[1]) - radius;
+        const real v = 0.5 * (1 - std::tanh(sd / (stretch * h)));
+        body.phi()(i, j, k) = v < 1e-8 ? 0.0 : v;
+        for (int a = 0; a < 2; ++a)
+            for (int b = a; b < 2; ++b)
+                body.tensor().comp[SymmetricTensorField::slot(a, b, dim)](i, j, k) =
+                    a_entry(a, b, dim);
+    });
+    s.halos->fill(body.phi(), body.patch());
+    NormalExtension ext(*s.halos, "disc", 1.0, 1.0, -1, true, false, /*newton_foot=*/true);
+    ext.apply(body);
+    auto psi = [&](int i, int j) {
+        const real v = std::clamp(1 - 2 * body.phi()(i, j, 0), -1 + 1e-15, 1 - 1e-15);
+        return h * std::atanh(v);
+    };
+    real worst = 0;
+    long copied = 0;
+    for_each_in(body.patch().local, [&](int i, int j, int k) {
+        const real gx = (psi(i + 1, j) - psi(i - 1, j)) / (2 * h);
+        const real gy = (psi(i, j + 1) - psi(i, j - 1)) / (2 * h);
+        const real g2 = gx * gx + gy * gy;
+        if (std::abs(psi(i, j)) > ext.reach_cells() * h || g2 < 0.25) return; // G = I there
+        const real n[3] = {gx / std::sqrt(g2), gy / std::sqrt(g2), 0.0};
+        ++copied;
+        for (int a = 0; a < 2; ++a)
+            for (int b = 0; b < 2; ++b) {
+                real v = 0;
+                for (int c = 0; c < 3; ++c)
+                    for (int e = 0; e < 3; ++e)
+                        v += ((a == c) - n[a] * n[c]) * a_entry(c, e, dim) *
+                             ((e == b) - n[e] * n[b]);
+                worst = std::max(worst, std::abs(body.tensor().value(a, b, {i, j, k}) - v));
+            }
+    });
+    EXPECT_GT(efsi::test::global_max(real(copied)), 100.0);
+    EXPECT_LT(efsi::test::global_max(worst), 1e-12);
+}
