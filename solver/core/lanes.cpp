@@ -1,8 +1,8 @@
 // exp and log of one real and of four (core/lanes.hpp). With EFSI_LIBMVEC (set by the
-// build when it finds libmvec and the target has AVX2), glibc's 4-lane functions: about
-// three times the throughput of four calls of std::exp or std::log, accurate to a few ulp
-// (not correctly rounded, so not bit for bit std::exp); a single real goes through lane 0
-// of the same function, so that a scalar code path and a 4-lane one agree exactly.
+// build when it finds libmvec and the target has AVX2), glibc's 4-lane functions: one call
+// for four values where std::exp or std::log takes four, accurate to a few ulp (not
+// correctly rounded, so not bit for bit std::exp); a single real goes through lane 0 of the
+// same function, so that a scalar code path and a 4-lane one agree exactly.
 #include "core/lanes.hpp"
 
 #include <cmath>
@@ -30,9 +30,6 @@ real lane_exp(real x) {
 real lane_log(real x) {
     return _ZGVdN4v_log(_mm256_set1_pd(x))[0];
 }
-bool lanes_use_libmvec() {
-    return true;
-}
 
 } // namespace efsi
 
@@ -51,9 +48,6 @@ real4 lane_exp(real4 x) {
 }
 real4 lane_log(real4 x) {
     return real4{std::log(x[0]), std::log(x[1]), std::log(x[2]), std::log(x[3])};
-}
-bool lanes_use_libmvec() {
-    return false;
 }
 
 } // namespace efsi

@@ -79,7 +79,7 @@ inline bool all_lanes(mask4 m) {
     return (m[0] & m[1] & m[2] & m[3]) != 0;
 }
 
-/// Lane l of v, and setting it (a real has one lane).
+/// Lane l of v (a real has one lane).
 inline real lane(real v, int) {
     return v;
 }
@@ -92,19 +92,6 @@ inline bool lane(bool v, int) {
 inline bool lane(const mask4& v, int l) {
     return v[l] != 0;
 }
-inline void set_lane(real& v, int, real x) {
-    v = x;
-}
-inline void set_lane(real4& v, int l, real x) {
-    v[l] = x;
-}
-inline void set_lane(bool& v, int, bool x) {
-    v = x;
-}
-inline void set_lane(mask4& v, int l, bool x) {
-    v[l] = -std::int64_t(x);
-}
-
 /// exp and log of each lane. With glibc's vector math library (libmvec, AVX2 builds) both
 /// versions evaluate its 4-lane functions (the one-real version in lane 0), whose result
 /// in a lane depends on that lane's argument only; without it both are std::exp and
@@ -113,8 +100,5 @@ real lane_exp(real x);
 real4 lane_exp(real4 x);
 real lane_log(real x);
 real4 lane_log(real4 x);
-
-/// Whether lane_exp and lane_log are libmvec's (for the run record and the tests).
-bool lanes_use_libmvec();
 
 } // namespace efsi
