@@ -16,6 +16,7 @@
 #include "bodies/transport.hpp"
 #include "boundary/boundary.hpp"
 #include "interface/shapes.hpp"
+#include "interface/thinc.hpp"
 #include "interface/vof_advection.hpp"
 #include "operators/flow_sweeps.hpp"
 #include "parallel/decomposition.hpp"
@@ -265,5 +266,35 @@ void BM_VofSweepPointwise(benchmark::State& state) {
     run_vof(state, true);
 }
 BENCHMARK(BM_VofSweepPointwise)->Arg(64)->Unit(benchmark::kMillisecond);
+
+// The MTHINC face kernel alone (interface/thinc.hpp, mthinc_slab_integrals): the x-faces
+// of the sphere's interface cells (0 < phi < 1) in row order, as a sweep along x gathers
+// them, with central-difference normals and the case's Courant numbers. Items are faces.
+void BM_MthincSlabIntegrals(benchmark::State& state) {
+    VofCase b(int(state.range(0)));
+    const real r = b.dt / b.dec.grid().dx(0);
+    std::vector<real> phi, courant, out;
+    std::vector<Real3> grad;
+    const Box cells = b.phi0.owned();
+    for_each_in(cells, [&](int i, int j, int k) {
+        const real f = b.phi0(i, j, k);
+        if (f <= 1e-6 || f >= 1 - 1e-6) return;
+        const Int3 p{i, j, k};
+        Real3 g{0, 0, 0};
+        for (int e = 0; e < 3; ++e)
+            g[e] = 0.5 * (b.phi0(p + unit(e)) - b.phi0(p - unit(e)));
+        phi.push_back(f);
+        grad.push_back(g);
+        courant.push_back(b.u[0](p) * r);
+    });
+    out.resize(phi.size());
+    for (auto _ : state) {
+        mthinc_slab_integrals(int(phi.size()), phi.data(), grad.data(), 2.0, 3, 0, courant.data(),
+                              out.data());
+        benchmark::DoNotOptimize(out.data());
+    }
+    state.SetItemsProcessed(std::int64_t(state.iterations() * phi.size()));
+}
+BENCHMARK(BM_MthincSlabIntegrals)->Arg(128)->Unit(benchmark::kMillisecond);
 
 } // namespace

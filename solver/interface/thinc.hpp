@@ -22,12 +22,11 @@
 // curvature term, not done here.
 #pragma once
 
+#include "core/lanes.hpp"
 #include "core/types.hpp"
 
 #include <algorithm>
-#include <bit>
 #include <cmath>
-#include <cstdint>
 #include <numbers>
 
 namespace efsi {
@@ -80,6 +79,47 @@ struct Mthinc {
 /// 2/beta = 0.04 cells wide).
 inline constexpr real mthinc_beta_max = 50;
 
+/// The normal of MthincBoxRuleT: n and, per direction e, whether e is m (a mask, so that
+/// each lane of a real4 has its own m).
+template <class V>
+struct MthincNormalT {
+    V n[3]{};
+    lane_mask<V> is_m[3]{};
+
+    MthincNormalT() = default;
+    explicit MthincNormalT(const Mthinc& r) requires(lane_count<V> == 1)
+        : n{r.n[0], r.n[1], r.n[2]}, is_m{r.m == 0, r.m == 1, r.m == 2} {}
+
+    /// x[m] in each lane.
+    V along_m(const V* x) const { return select(is_m[0], x[0], select(is_m[1], x[1], x[2])); }
+};
+
+/// mthinc_normal (below) for `lane_count<V>` gradients at once (grad[e] the components
+/// along e): the same operations lane by lane, m the first direction of largest |n_e|.
+template <class V>
+MthincNormalT<V> mthinc_normal_lanes(const V* grad, int dim) {
+    V len2 = splat<V>(0);
+    for (int e = 0; e < dim; ++e)
+        len2 += grad[e] * grad[e];
+    const V len = lane_sqrt(len2);
+    MthincNormalT<V> r;
+    V m = splat<V>(0), largest{};
+    for (int e = 0; e < dim; ++e) {
+        r.n[e] = grad[e] / len;
+        const V size = lane_abs(r.n[e]);
+        if (e == 0) {
+            largest = size;
+            continue;
+        }
+        const lane_mask<V> larger = size > largest;
+        m = select(larger, splat<V>(e), m);
+        largest = select(larger, size, largest);
+    }
+    for (int e = 0; e < 3; ++e)
+        r.is_m[e] = m == e;
+    return r;
+}
+
 /// The MTHINC integral over one box [lo, hi] as a function of the level offset d, for a
 /// fixed normal: exact along m, 2-point Gauss in the other directions (mthinc_box_integral).
 ///
@@ -97,47 +137,73 @@ inline constexpr real mthinc_beta_max = 50;
 /// box that spans the cell in one of them shares that direction's factors with the cell.
 /// Nothing overflows for beta <= mthinc_beta_max (see there), and the absolute
 /// round-off of a ratio (1e-16, ratios between 1 and G) is that of phi itself.
-class MthincBoxRule {
+///
+/// V is real (one box) or real4 (four boxes, one per lane, each with its own normal,
+/// direction m and box; beta and dim shared). Lane l of a real4 rule holds bit for bit the
+/// values of the real rule of lane l's normal and box: the same operations on the same
+/// numbers, lane by lane, and lane_exp, lane_log agree between the two (core/lanes.hpp).
+template <class V>
+class MthincBoxRuleT {
   public:
-    MthincBoxRule() = default;
+    using Mask = lane_mask<V>;
+    static constexpr int lanes = lane_count<V>;
+
     /// The rule of r's normal over [lo, hi]. `cell` (optional) is the rule of the same
     /// normal over the whole cell: its Gauss-point factors are reused in each transverse
     /// direction the box spans, its G when the box spans it along m (same values: the
     /// same expressions of the same numbers).
-    MthincBoxRule(const Mthinc& r, const Real3& lo, const Real3& hi,
-                  const MthincBoxRule* cell = nullptr)
-        : beta_(r.beta), nm_(r.n[r.m]) {
+    MthincBoxRuleT(const Mthinc& r, const Real3& lo, const Real3& hi,
+                   const MthincBoxRuleT* cell = nullptr) requires(lanes == 1)
+        : MthincBoxRuleT(r.beta, r.dim, MthincNormalT<real>(r), lo.data(), hi.data(), cell) {}
+
+    /// The same for `lanes` normals and boxes at once (lo[e], hi[e] the box's bounds along
+    /// e in each lane). Written with selects only: the directions of a lane's Gauss points
+    /// (the transverse ones, slot a being direction a below m and a + 1 from m on) are
+    /// picked by its masks, and an exp is taken only where some lane needs it.
+    MthincBoxRuleT(real beta, int dim, const MthincNormalT<V>& nrm, const V* lo, const V* hi,
+                   const MthincBoxRuleT* cell = nullptr)
+        : beta_(beta) {
         constexpr real g = 0.5773502691896257645; // 1/sqrt(3): Gauss points at +-g on [-1, 1]
-        real weight = 1; // Gauss weights 1 times the transverse half-lengths
-        int no = 0;
-        for (int e = 0; e < r.dim; ++e) {
-            if (e == r.m) continue;
-            const int a = no++;
-            weight *= 0.5 * (hi[e] - lo[e]);
-            if (cell && lo[e] == -0.5 && hi[e] == 0.5) {
-                pair_[a][0] = cell->pair_[a][0];
-                pair_[a][1] = cell->pair_[a][1];
-                continue;
+        const V one = splat<V>(1);
+        const int no = dim - 1;
+        V weight = one; // Gauss weights 1 times the transverse half-lengths
+        Mask after_m = nrm.is_m[0];
+        for (int a = 0; a < no; ++a) {
+            const V n_a = select(after_m, nrm.n[a + 1], nrm.n[a]);
+            const V lo_a = select(after_m, lo[a + 1], lo[a]);
+            const V hi_a = select(after_m, hi[a + 1], hi[a]);
+            after_m = after_m | nrm.is_m[a + 1];
+            weight *= 0.5 * (hi_a - lo_a);
+            const Mask same = (lo_a == -0.5) & (hi_a == 0.5);
+            if (!cell || !all_lanes(same)) {
+                // e^{-2 beta n_e X_e} at the two Gauss points X_e = mid -+ g half, as M / Q
+                // and M Q: one exp for a direction centred in the cell (M = 1), two otherwise.
+                const V mid = 0.5 * (lo_a + hi_a), half = 0.5 * (hi_a - lo_a);
+                const Mask centred = mid == 0;
+                const V m = all_lanes(centred)
+                                ? one
+                                : select(centred, one, lane_exp(-2 * beta_ * n_a * mid));
+                const V q = lane_exp(-2 * beta_ * n_a * g * half);
+                pair_[a][0] = m / q;
+                pair_[a][1] = m * q;
             }
-            // e^{-2 beta n_e X_e} at the two Gauss points X_e = mid -+ g half, as M / Q and
-            // M Q: one exp for a direction centred in the cell (M = 1), two otherwise.
-            const real mid = 0.5 * (lo[e] + hi[e]), half = 0.5 * (hi[e] - lo[e]);
-            const real m = mid == 0 ? 1 : std::exp(-2 * beta_ * r.n[e] * mid);
-            const real q = std::exp(-2 * beta_ * r.n[e] * g * half);
-            pair_[a][0] = m / q;
-            pair_[a][1] = m * q;
+            if (cell)
+                for (int k = 0; k < 2; ++k)
+                    pair_[a][k] = select(same, cell->pair_[a][k], pair_[a][k]);
         }
         nq_ = 1 << no;
         for (int q = 0; q < nq_; ++q) {
-            real f = 1;
+            V f = one;
             for (int a = 0; a < no; ++a)
                 f *= pair_[a][(q >> a) & 1];
             factor_[q] = f;
         }
-        low_ = nm_ * lo[r.m];
-        growth_ = cell && lo[r.m] == -0.5 && hi[r.m] == 0.5
-                      ? cell->growth_
-                      : std::exp(2 * beta_ * nm_ * (hi[r.m] - lo[r.m]));
+        const V lo_m = nrm.along_m(lo), hi_m = nrm.along_m(hi);
+        nm_ = nrm.along_m(nrm.n);
+        low_ = nm_ * lo_m;
+        const Mask same = (lo_m == -0.5) & (hi_m == 0.5);
+        if (!cell || !all_lanes(same)) growth_ = lane_exp(2 * beta_ * nm_ * (hi_m - lo_m));
+        if (cell) growth_ = select(same, cell->growth_, growth_);
         scale_ = weight / (2 * beta_ * nm_);
         slope_scale_ = weight * (growth_ - 1) / nm_;
     }
@@ -145,19 +211,19 @@ class MthincBoxRule {
     /// int_box H at level offset d; `dd` (if given) receives its derivative in d and `d2`
     /// (if given) its second derivative, (x_q (G - x_q^2) / ((x_q + 1)(x_q + G))^2) summed,
     /// times -2 beta (G - 1) weight / n_m.
-    real integral(real d, real* dd = nullptr, real* d2 = nullptr) const {
-        const real e = std::exp(-2 * beta_ * (low_ + d));
-        real ratio = 1, slope = 0, bend = 0;
+    V integral(V d, V* dd = nullptr, V* d2 = nullptr) const {
+        const V e = lane_exp(-2 * beta_ * (low_ + d));
+        V ratio = splat<V>(1), slope = splat<V>(0), bend = splat<V>(0);
         for (int q = 0; q < nq_; ++q) {
-            const real x = e * factor_[q], xl = x + 1, xh = x + growth_;
-            const real inv = 1 / (xl * xh); // one division for the ratio and the slopes
+            const V x = e * factor_[q], xl = x + 1, xh = x + growth_;
+            const V inv = 1 / (xl * xh); // one division for the ratio and the slopes
             ratio *= xh * xh * inv;
             slope += x * inv;
             bend += x * (growth_ - x * x) * inv * inv;
         }
         if (dd) *dd = slope_scale_ * slope;
         if (d2) *d2 = -2 * beta_ * slope_scale_ * bend;
-        return scale_ * std::log(ratio);
+        return scale_ * lane_log(ratio);
     }
 
     /// The level offset d of the cell's 1D profile along m alone (transverse components of
@@ -165,22 +231,49 @@ class MthincBoxRule {
     /// ln[(x + G)/(x + 1)] = 2 beta n_m phi gives x = (G - P)/(P - 1), P = e^{2 beta n_m phi}.
     /// The iteration's starting point (the closed form tanh(beta d) = tanh(beta n_m (phi - 1/2)) /
     /// tanh(beta n_m / 2) in other terms). Only for a rule over the whole cell.
-    real profile_level(real phi) const {
-        const real p = std::exp(2 * beta_ * nm_ * phi);
-        return 0.5 * nm_ - std::log((growth_ - p) / (p - 1)) / (2 * beta_);
+    V profile_level(V phi) const {
+        const V p = lane_exp(2 * beta_ * nm_ * phi);
+        return 0.5 * nm_ - lane_log((growth_ - p) / (p - 1)) / (2 * beta_);
+    }
+
+    /// The one-box rule of lane l (the same values).
+    MthincBoxRuleT<real> single(int l) const {
+        MthincBoxRuleT<real> s;
+        s.beta_ = beta_;
+        s.nm_ = lane(nm_, l);
+        s.low_ = lane(low_, l);
+        s.growth_ = lane(growth_, l);
+        s.scale_ = lane(scale_, l);
+        s.slope_scale_ = lane(slope_scale_, l);
+        for (int q = 0; q < 4; ++q)
+            s.factor_[q] = lane(factor_[q], l);
+        for (int a = 0; a < 2; ++a)
+            for (int k = 0; k < 2; ++k)
+                s.pair_[a][k] = lane(pair_[a][k], l);
+        s.nq_ = nq_;
+        return s;
     }
 
   private:
-    real beta_;
-    real nm_;
-    real low_ = 0;         ///< n_m lo_m: the level of the low end of the lines, less t_q and d
-    real growth_ = 1;      ///< G
-    real scale_ = 1;       ///< weight / (2 beta n_m)
-    real slope_scale_ = 1; ///< weight (G - 1) / n_m
-    real factor_[4] = {1, 1, 1, 1};      ///< F_q
-    real pair_[2][2] = {{1, 1}, {1, 1}}; ///< e^{-2 beta n_e X_e} at the Gauss points, per direction
+    template <class>
+    friend class MthincBoxRuleT;
+    MthincBoxRuleT() = default;
+
+    real beta_ = 1;
+    V nm_{};
+    /// n_m lo_m: the level of the low end of the lines, less t_q and d
+    V low_{};
+    V growth_ = splat<V>(1);      ///< G
+    V scale_ = splat<V>(1);       ///< weight / (2 beta n_m)
+    V slope_scale_ = splat<V>(1); ///< weight (G - 1) / n_m
+    /// F_q
+    V factor_[4] = {splat<V>(1), splat<V>(1), splat<V>(1), splat<V>(1)};
+    /// e^{-2 beta n_e X_e} at the Gauss points, per direction
+    V pair_[2][2] = {{splat<V>(1), splat<V>(1)}, {splat<V>(1), splat<V>(1)}};
     int nq_ = 1;
 };
+
+using MthincBoxRule = MthincBoxRuleT<real>;
 
 /// int over the box [lo, hi] (unit-cell coordinates, only the first dim entries used) of
 /// H = (1/2)(1 + tanh(beta (n.X + d))); exact along m, 2-point Gauss in the others
@@ -208,69 +301,81 @@ inline Mthinc mthinc_normal(const Real3& grad, real beta, int dim) {
 }
 
 /// The iteration for the level offset d of one cell (int_cell H = phi in (0, 1), `cell`
-/// the rule of r's normal over the whole cell): Halley's method (third order; the rule
+/// the rule of the normal over the whole cell): Halley's method (third order; the rule
 /// gives the second derivative at no extra exp or log) on a bracket [a, b] that each
 /// evaluation narrows (the integral increases monotonically with d), a step leaving the
 /// bracket replaced by bisection. It starts from the 1D profile along m
 /// (MthincBoxRule::profile_level) and takes mthinc_level_steps steps with no test in
-/// between, so that the steps of several cells interleave (mthinc_slab_integrals) with no
-/// branch the processor could mispredict. When the residual of the last of them is below
-/// 1e-6 of min(phi, 1 - phi), that step left it at round-off (cubic convergence); else
-/// `finish` goes on, testing after each step, to a residual of 1e-15 or a bracket of that
-/// width.
-struct MthincLevel {
-    real a = 0, b = 0; ///< bracket
-    real d = 0;        ///< current level
-    real phi = 0;
-    real close = 0;      ///< 1e-6 min(phi, 1 - phi)
-    real f = 1;          ///< residual at the last evaluation
-    bool halley = false; ///< the last step was Halley's (or Newton's), not a bisection
+/// between, written with selects only, so that four cells step together in the lanes of
+/// a real4 (V = real4, mthinc_slab_integrals) as one cell does (V = real). When the
+/// residual of the last of them is below 1e-6 of min(phi, 1 - phi), that step left it at
+/// round-off (cubic convergence); else `finish` goes on for that cell alone, testing after
+/// each step, to a residual of 1e-15 or a bracket of that width.
+template <class V>
+struct MthincLevelT {
+    using Mask = lane_mask<V>;
 
-    void start(const Mthinc& r, const MthincBoxRule& cell, real phi_) {
+    V a{}, b{}; ///< bracket
+    V d{};      ///< current level
+    V phi{};
+    V close{};         ///< 1e-6 min(phi, 1 - phi)
+    V f = splat<V>(1); ///< residual at the last evaluation
+    Mask halley{};     ///< the last step was Halley's (or Newton's), not a bisection
+
+    void start(real beta, int dim, const MthincBoxRuleT<V>& cell, V phi_) {
         phi = phi_;
         // |n.X| <= sqrt(dim)/2 in the cell; 20/beta more makes tanh = +-1 to round-off.
-        a = -std::sqrt(real(r.dim)) / 2 - 20 / r.beta;
-        b = -a;
-        close = 1e-6 * std::min(phi, 1 - phi);
-        // A start lost to round-off (P = 1 or G) is NaN or infinite.
-        const real s = cell.profile_level(phi);
-        d = std::isnan(s) ? 0 : std::clamp(s, a, b);
+        const real low = -std::sqrt(real(dim)) / 2 - 20 / beta;
+        a = splat<V>(low);
+        b = splat<V>(-low);
+        close = 1e-6 * lane_min(phi, 1 - phi);
+        // A start lost to round-off (P = 1 or G) is NaN or infinite: 0 if NaN, else
+        // clamped to the bracket (std::clamp's comparisons).
+        const V s = cell.profile_level(phi);
+        d = select(s != s, splat<V>(0), select(s < a, a, select(b < s, b, s)));
     }
 
     /// One evaluation and one step, written with selects only. A step that lands on the
     /// bracket's end is kept (at a root, f = 0, the step is zero and d stays); one outside
     /// it (or not a number: a zero slope) is a bisection.
-    void step(const MthincBoxRule& cell) {
-        real slope = 0, bend = 0;
+    void step(const MthincBoxRuleT<V>& cell) {
+        V slope{}, bend{};
         f = cell.integral(d, &slope, &bend) - phi;
-        const bool above = f > 0;
-        b = pick(above, d, b);
-        a = pick(above, a, d);
+        const Mask above = f > 0;
+        b = select(above, d, b);
+        a = select(above, a, d);
         // Halley: d - f f' / (f'^2 - f f'' / 2), one division; Newton (d - f f' / f'^2)
         // where the correction is more than half of f'^2 (far from the root).
-        const real s2 = slope * slope, halley_den = s2 - 0.5 * f * bend;
-        const real tried = d - f * slope / pick(halley_den > 0.5 * s2, halley_den, s2);
+        const V s2 = slope * slope, halley_den = s2 - 0.5 * f * bend;
+        const V tried = d - f * slope / select(halley_den > 0.5 * s2, halley_den, s2);
         halley = (tried >= a) & (tried <= b);
-        d = pick(halley, tried, 0.5 * (a + b));
+        d = select(halley, tried, 0.5 * (a + b));
     }
 
-    /// `yes ? x : y` by bit masks: the compiler turns a plain conditional into a branch,
-    /// which here goes either way at random and costs a pipeline flush when mispredicted.
-    static real pick(bool yes, real x, real y) {
-        const std::uint64_t mask = -std::uint64_t(yes);
-        return std::bit_cast<real>((std::bit_cast<std::uint64_t>(x) & mask) |
-                                   (std::bit_cast<std::uint64_t>(y) & ~mask));
-    }
+    bool converged() const requires(lane_count<V> == 1) { return halley && std::abs(f) < close; }
 
-    bool converged() const { return halley && std::abs(f) < close; }
-
-    void finish(const MthincBoxRule& cell) {
+    void finish(const MthincBoxRuleT<V>& cell) requires(lane_count<V> == 1) {
         for (int it = 0; it < 100 && !converged(); ++it) {
             if (std::abs(f) < 1e-15 || b - a < 1e-15) return;
             step(cell);
         }
     }
+
+    /// The one-cell iteration of lane l (the same values).
+    MthincLevelT<real> single(int l) const {
+        MthincLevelT<real> s;
+        s.a = lane(a, l);
+        s.b = lane(b, l);
+        s.d = lane(d, l);
+        s.phi = lane(phi, l);
+        s.close = lane(close, l);
+        s.f = lane(f, l);
+        s.halley = lane(halley, l);
+        return s;
+    }
 };
+
+using MthincLevel = MthincLevelT<real>;
 
 /// Steps MthincLevel takes before it tests: from the profile's start two or three reach
 /// round-off at the betas the schemes use (a smoothed body's 1/smoothing_width, the sharp
@@ -280,7 +385,7 @@ inline constexpr int mthinc_level_steps = 3;
 /// The level offset d with int_cell H = phi in (0, 1) (MthincLevel).
 inline real mthinc_level(const Mthinc& r, const MthincBoxRule& cell, real phi) {
     MthincLevel l;
-    l.start(r, cell, phi);
+    l.start(r.beta, r.dim, cell, phi);
     for (int it = 0; it < mthinc_level_steps; ++it)
         l.step(cell);
     if (!l.converged()) l.finish(cell);
@@ -297,40 +402,50 @@ inline Mthinc mthinc_reconstruct(real phi, const Real3& grad, real beta, int dim
 
 /// The slab integrals of n faces along direction d, one per cell: out[f] =
 /// mthinc_slab_integral(phi[f], grad[f], beta, dim, d, |c|, c > 0) with c = courant[f],
-/// bit for bit (the same operations in
-/// the same order for each face), the cells taken four at a time with their steps
-/// interleaved: one cell's iteration is a chain of dependent exp, log and divisions,
-/// and four independent chains keep the processor busy where one leaves it waiting.
+/// bit for bit (the same operations in the same order for each face). The faces go four
+/// at a time through the lanes of real4: one face's iteration is a chain of dependent exp,
+/// log and divisions, and four chains in one vector take one vector exp or log (libmvec's
+/// on AVX2 builds: core/lanes.hpp) and one division instruction where four faces took
+/// four scalar calls and four divisions (docs/method.md, "MTHINC in four lanes"). Everything is
+/// written with selects, so that each lane has its own direction m and slab side; a lane whose
+/// iteration has not passed its test after mthinc_level_steps finishes alone.
 inline void mthinc_slab_integrals(int n, const real* phi, const Real3* grad, real beta, int dim,
                                   int d, const real* courant, real* out) {
-    constexpr int L = 4;
+    constexpr int L = lane_count<real4>;
+    const real4 cube_lo[3] = {splat<real4>(-0.5), splat<real4>(-0.5), splat<real4>(-0.5)};
+    const real4 cube_hi[3] = {splat<real4>(0.5), splat<real4>(0.5), splat<real4>(0.5)};
     for (int f0 = 0; f0 < n; f0 += L) {
         const int nl = std::min(L, n - f0);
-        Mthinc r[L];
-        MthincBoxRule cell[L];
-        MthincLevel level[L];
-        for (int l = 0; l < nl; ++l) {
-            r[l] = mthinc_normal(grad[f0 + l], beta, dim);
-            cell[l] = MthincBoxRule(r[l], {-0.5, -0.5, -0.5}, {0.5, 0.5, 0.5});
+        real4 g[3]{}, ph{}, c{};
+        for (int l = 0; l < L; ++l) {
+            const int f = f0 + std::min(l, nl - 1); // lanes past the end repeat the last face
+            for (int e = 0; e < 3; ++e)
+                g[e][l] = grad[f][e];
+            ph[l] = phi[f];
+            c[l] = courant[f];
         }
-        for (int l = 0; l < nl; ++l)
-            level[l].start(r[l], cell[l], phi[f0 + l]);
+        const MthincNormalT<real4> nrm = mthinc_normal_lanes(g, dim);
+        const MthincBoxRuleT<real4> cell(beta, dim, nrm, cube_lo, cube_hi);
+        MthincLevelT<real4> level;
+        level.start(beta, dim, cell, ph);
         for (int it = 0; it < mthinc_level_steps; ++it)
-            for (int l = 0; l < nl; ++l)
-                level[l].step(cell[l]);
+            level.step(cell);
+        real4 level_d = level.d;
         for (int l = 0; l < nl; ++l) {
-            if (!level[l].converged()) level[l].finish(cell[l]);
-            r[l].d = level[l].d;
+            MthincLevel one = level.single(l);
+            if (one.converged()) continue;
+            one.finish(cell.single(l));
+            level_d[l] = one.d;
         }
-        for (int l = 0; l < nl; ++l) {
-            Real3 lo{-0.5, -0.5, -0.5}, hi{0.5, 0.5, 0.5};
-            const real c = courant[f0 + l];
-            if (c > 0)
-                lo[d] = 0.5 - std::abs(c);
-            else
-                hi[d] = -0.5 + std::abs(c);
-            out[f0 + l] = MthincBoxRule(r[l], lo, hi, &cell[l]).integral(r[l].d);
-        }
+        // The slab of width |c| at the cell's high end (c > 0) or low end along d.
+        real4 lo[3] = {cube_lo[0], cube_lo[1], cube_lo[2]};
+        real4 hi[3] = {cube_hi[0], cube_hi[1], cube_hi[2]};
+        const mask4 positive = c > 0;
+        lo[d] = select(positive, 0.5 - lane_abs(c), lo[d]);
+        hi[d] = select(positive, hi[d], -0.5 + lane_abs(c));
+        const real4 v = MthincBoxRuleT<real4>(beta, dim, nrm, lo, hi, &cell).integral(level_d);
+        for (int l = 0; l < nl; ++l)
+            out[f0 + l] = v[l];
     }
 }
 
