@@ -362,19 +362,18 @@ void BodyTransport::advance(Body& body, const VelocityField& u, real dt, bool te
         st1.push_back(&f);
     std::vector<const Field*> st1_c(st1.begin(), st1.end());
     SymmetricTensorField* stage = t ? &stage_ : nullptr;
-    // Each stage's fields get their halos in one round of messages per direction.
-    auto fill = [&](SymmetricTensorField* tf, const std::vector<Field*>& scalars) {
-        std::vector<Field*> all;
-        if (tf)
-            for (Field& c : tf->comp)
-                all.push_back(&c);
-        all.insert(all.end(), scalars.begin(), scalars.end());
-        halos_.fill(all, body.patch());
-    };
     // Stage 1: k1 = R(T^n); T1 = T^n + dt k1.
-    fill(t, sc);
+    if (t)
+        for (Field& c : t->comp)
+            halos_.fill(c, body.patch());
+    for (Field* f : sc)
+        halos_.fill(*f, body.patch());
     transport_predict(body.patch().local, t, sc_c, source, u, g, dt, k1_, stage, st1);
-    fill(stage, st1);
+    if (t)
+        for (Field& c : stage_.comp)
+            halos_.fill(c, body.patch());
+    for (Field* f : st1)
+        halos_.fill(*f, body.patch());
     // Stage 2: T^{n+1} = T^n + dt/2 (k1 + R(T1)).
     transport_correct(body.patch().local, stage, st1_c, source, u, g, dt, k1_, t, sc);
 }

@@ -3,7 +3,6 @@
 #include <algorithm>
 #include <cassert>
 #include <cmath>
-#include <vector>
 
 namespace efsi {
 
@@ -126,11 +125,6 @@ void HaloFiller::fill(Field& f, const Patch& patch) const {
     Field* one[] = {&f};
     const Patch* of[] = {&patch};
     fill(one, of);
-}
-
-void HaloFiller::fill(std::span<Field* const> fields, const Patch& patch) const {
-    const std::vector<const Patch*> same(fields.size(), &patch);
-    fill(fields, same);
 }
 
 void HaloFiller::fill(std::span<Field* const> fields, std::span<const Patch* const> patches) const {

@@ -63,10 +63,6 @@ class HaloFiller {
     /// (Decomposition::exchange_all), so a rank waits once per direction, not per field.
     /// Every rank must pass the fields in the same order.
     void fill(std::span<Field* const> fields, std::span<const Patch* const> patches) const;
-    /// Several fields on one patch (a tensor's components, a body's work fields), each
-    /// direction's messages of all of them in one round; the same values as fill(f, patch)
-    /// field by field.
-    void fill(std::span<Field* const> fields, const Patch& patch) const;
     /// Velocity: wall rules for normal and tangential components.
     void fill(VelocityField& v) const;
     /// Velocity, each component's halos along its own direction only, at the owned

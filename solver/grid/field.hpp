@@ -137,15 +137,6 @@ struct VelocityField {
     const Field& operator[](int d) const { return comp[d]; }
 };
 
-/// Pointers to each of `fields` (for the calls that take several fields at once).
-inline std::vector<Field*> pointers(std::vector<Field>& fields) {
-    std::vector<Field*> r;
-    r.reserve(fields.size());
-    for (Field& f : fields)
-        r.push_back(&f);
-    return r;
-}
-
 /// Loop over the owned points of a block: f(i,j,k).
 template <class F>
 inline void for_each_cell(const Int3& n, F&& f) {

@@ -7,7 +7,6 @@
 #include <algorithm>
 #include <cmath>
 #include <numbers>
-#include <vector>
 
 namespace efsi {
 
@@ -273,16 +272,16 @@ void MembraneForce::add(Body& body, const MembraneLaw& law, VelocityField& force
     const Patch& patch = body.patch();
     const int dim = g_.dim;
     if (patch.empty()) return;
-    const bool bending = settings_.bending_modulus > 0;
-    if (bending && !body.reference_curvature())
-        throw InputError("membrane '" + body.name() +
-                         "': a bending modulus needs the body to carry kappa_R");
-    // phi, Gs (and kappa_R) get their halos in one round of messages per direction.
-    std::vector<Field*> read{&body.phi()};
+    halos_.fill(body.phi(), patch);
     for (Field& c : body.tensor().comp)
-        read.push_back(&c);
-    if (bending) read.push_back(body.reference_curvature());
-    halos_.fill(read, patch);
+        halos_.fill(c, patch);
+    const bool bending = settings_.bending_modulus > 0;
+    if (bending) {
+        if (!body.reference_curvature())
+            throw InputError("membrane '" + body.name() +
+                             "': a bending modulus needs the body to carry kappa_R");
+        halos_.fill(*body.reference_curvature(), patch);
+    }
 
     if (stress_.comp.empty() || !(stress_box_ == patch.local)) allocate(patch);
     for (const Int3& q : band_) { // clear the previous band only
@@ -519,10 +518,8 @@ void MembraneForce::add_bending(Body& body, VelocityField& force) {
         }
         ++bending_cells_;
     }
-    std::vector<Field*> q;
     for (int d = 0; d < dim; ++d)
-        q.push_back(&q_[d]);
-    halos_.fill(q, patch);
+        halos_.fill(q_[d], patch);
 
     // Pass C: the force -div(delta_b q n): S_b,dk = -n_d Q_k, scattered like the tension's
     // S (the d-force takes the k-difference of S_dk).

@@ -113,12 +113,12 @@ bool NormalExtension::prepare(Body& body, const std::vector<const Field*>& field
     // Collective: every rank with a part of the patch takes part (the patch's exchange
     // flags pair the ranks).
     if (empty) return false;
-    // One round of messages per direction for all of them.
-    std::vector<Field*> all;
-    if (!psi_current) all = {&psi_, &psi_wide_};
+    if (!psi_current) {
+        halos_.fill(psi_, body.patch());
+        halos_.fill(psi_wide_, body.patch());
+    }
     for (int s = 0; s < ncomp; ++s)
-        all.push_back(&src_[s]);
-    halos_.fill(all, body.patch());
+        halos_.fill(src_[s], body.patch());
     return true;
 }
 
@@ -328,7 +328,8 @@ void NormalExtension::apply_tensor(Body& body, real core_cells, const Field* wei
             }
         }
     });
-    halos_.fill(pointers(G.comp), body.patch());
+    for (Field& c : G.comp)
+        halos_.fill(c, body.patch());
 }
 
 void NormalExtension::apply_reference_map(Body& body, bool whole_band, const Shape* reference) {
@@ -379,7 +380,8 @@ void NormalExtension::apply_reference_map(Body& body, bool whole_band, const Sha
         for (int d = 0; d < dim; ++d)
             X[d](p) = on[d] - x[d];
     });
-    halos_.fill(pointers(X), body.patch());
+    for (Field& c : X)
+        halos_.fill(c, body.patch());
     // 2. Gs from grad X = I + grad (X - x) (fourth-order central differences: with second-order
     //    ones the rest state's area ratio came out 0.4 % high at R = 8 cells, a prestress of
     //    0.4 % of the area modulus, 22 % of Es in a Skalak membrane with C = 100) in the band,
@@ -461,7 +463,8 @@ void NormalExtension::apply_reference_map(Body& body, bool whole_band, const Sha
             for (int b = a; b < dim; ++b)
                 G.comp[SymmetricTensorField::slot(a, b, dim)](p) = ok * Gm[a][b];
     });
-    halos_.fill(pointers(G.comp), body.patch());
+    for (Field& c : G.comp)
+        halos_.fill(c, body.patch());
     // 2b. (area_filter) J of the rebuilt Gs, low-passed: the (1, 2, 1)^dim weighted mean over
     //     the valid cells of each valid cell's 3^dim block. Step 3 then sets every band cell's
     //     area ratio to this J at its foot point. J is a scalar, so the mean has no bias from

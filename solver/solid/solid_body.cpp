@@ -16,7 +16,8 @@ SolidBody::SolidBody(const BodyConfig& body, const BodyContext& ctx) : BodyPhysi
 
 void SolidBody::add_force(Body& body, VelocityField& force) {
     if (law_.shear_modulus == 0) return;
-    ctx_.halos.fill(pointers(body.tensor().comp), body.patch());
+    for (Field& comp : body.tensor().comp)
+        ctx_.halos.fill(comp, body.patch());
     add_elastic_force(force, body, law_, ctx_.run.grid, ctx_.dec.block());
 }
 

@@ -1,7 +1,6 @@
 #include "solid/tensor_extension.hpp"
 
 #include <array>
-#include <vector>
 
 namespace efsi {
 
@@ -20,10 +19,9 @@ void TensorExtension::apply(Body& body) {
         const bool known = v >= threshold_ && (!two_sided_ || v <= 1 - threshold_);
         level_(i, j, k) = known ? 0.0 : -1.0;
     });
-    // The transport leaves B's halos at the old B. One round of messages for all.
-    std::vector<Field*> all = pointers(B.comp);
-    all.insert(all.begin(), &level_);
-    halos_.fill(all, body.patch());
+    halos_.fill(level_, body.patch());
+    for (Field& c : B.comp) // the transport leaves the halos at the old B
+        halos_.fill(c, body.patch());
     const int kz = dim == 3 ? 1 : 0;
     for (int layer = 1; layer <= layers_; ++layer) {
         for_each_in(cells, [&](int i, int j, int k) {
@@ -45,10 +43,10 @@ void TensorExtension::apply(Body& body) {
                 B.comp[s](p) = sum[s] / count;
             level_(p) = layer;
         });
+        halos_.fill(level_, body.patch());
         if (layer < layers_)
-            halos_.fill(all, body.patch());
-        else
-            halos_.fill(level_, body.patch());
+            for (Field& c : B.comp)
+                halos_.fill(c, body.patch());
     }
     // Cells never reached (more than `layers` cells from any solid core): B = I. They hold
     // at most VOF residues (phi ~ 1e-10), whose B would otherwise keep growing in the
@@ -61,7 +59,8 @@ void TensorExtension::apply(Body& body) {
                 if (s >= 0) B.comp[s](i, j, k) = a == b ? 1.0 : 0.0;
             }
     });
-    halos_.fill(pointers(B.comp), body.patch());
+    for (Field& c : B.comp)
+        halos_.fill(c, body.patch());
 }
 
 } // namespace efsi
