@@ -87,6 +87,9 @@ class NormalExtension {
         std::array<real, 8> weight{};
     };
     Trilinear trilinear_at(const Real3& x) const;
+    /// x along d in the block's cell units, 0 at its first owned cell's centre (the
+    /// interpolations' stencils start at floor of it).
+    real cell_coordinate(real x, int d) const;
     /// Whether a foot point lies on the surface: |psi| there (trilinear, from the wide-halo
     /// copy of psi that prepare() keeps in psi_wide_) at most kFootTolerance cells. Off it
     /// where the normal at the cell is not the distance's: a thin body's middle, where the
