@@ -286,16 +286,13 @@ inline real mthinc_box_integral(const Mthinc& r, const Real3& lo, const Real3& h
 /// The reconstruction's normal: n = grad / |grad| (grad any length > 0, unit-cell
 /// coordinates) and m the direction of its largest component; d left at 0.
 inline Mthinc mthinc_normal(const Real3& grad, real beta, int dim) {
+    const MthincNormalT<real> nrm = mthinc_normal_lanes<real>(grad.data(), dim);
     Mthinc r;
     r.beta = beta;
     r.dim = dim;
-    real len2 = 0;
-    for (int e = 0; e < dim; ++e)
-        len2 += grad[e] * grad[e];
-    const real len = std::sqrt(len2);
-    for (int e = 0; e < dim; ++e) {
-        r.n[e] = grad[e] / len;
-        if (std::abs(r.n[e]) > std::abs(r.n[r.m])) r.m = e;
+    for (int e = 0; e < 3; ++e) {
+        r.n[e] = nrm.n[e];
+        if (nrm.is_m[e]) r.m = e;
     }
     return r;
 }
