@@ -407,11 +407,12 @@ SolveReport FftSolver::solve_in_place(Field& x) {
                     continue;
                 }
                 const real ljk = l1[j] + l2[k];
-                // Branch-free, so that it vectorises: a dead entry divides by 1 and is then
-                // set to zero (a live one is divided exactly as before).
+                // Branch-free, so that it vectorises (with -fno-trapping-math: the file's
+                // flag, solver/CMakeLists.txt): a dead entry divides by 1 and is then set to
+                // zero (a live one is divided exactly as before).
                 for (int i = bb.lo[0]; i < bb.hi[0]; ++i) {
                     const real den = alpha + beta * (l0[i] + ljk);
-                    const bool ok = live0[i] != 0 && den != 0;
+                    const bool ok = (live0[i] != 0) & (den != 0);
                     const real v = row[i] / (ok ? den * norm : 1.0);
                     row[i] = ok ? v : 0.0;
                 }
