@@ -21,16 +21,19 @@ namespace {
 //   (verification/results/throughput: cell_updates_per_second_1rank_128, bytes_per_cell);
 constexpr double FLOW_SECONDS_FFT = 1 / 2.22e+07;
 constexpr double FLOW_BYTES_PER_CELL = 189;
-// - the process's base, the flow with hypre's viscous solve (a pinned vessel wall) and the
-//   bodies' patch cells: the blood_capillary study's three runs at 64 x 32 x 32
+// - the process's base and the flow's bytes per cell with hypre's viscous solve (a pinned
+//   vessel wall): the plasma alone at 64 x 32 x 32 and 128 x 64 x 64 cells, the intercept
+//   and slope of peak RSS against cells; the flow's seconds with hypre and the bodies'
+//   patch cells: the blood_capillary study's runs at 128 x 64 x 64
 //   (verification/results/blood_capillary: rate_*).
-constexpr double PROCESS_BYTES = 1.02e+08;
-constexpr double FLOW_SECONDS_HYPRE = 1.64e-06;
+constexpr double PROCESS_BYTES = 3.90e+07;
+constexpr double FLOW_BYTES_PER_CELL_HYPRE = 1150;
+constexpr double FLOW_SECONDS_HYPRE = 2.11e-06;
 constexpr double HELD_BYTES = 11; // phi alone: 8 B per cell plus the patch's halo
-constexpr double SOLID_BYTES = 705;
-constexpr double SOLID_SECONDS = 1.09e-06;
-constexpr double MEMBRANE_BYTES = 727;
-constexpr double MEMBRANE_SECONDS = 5.25e-07;
+constexpr double SOLID_BYTES = 656;
+constexpr double SOLID_SECONDS = 1.29e-06;
+constexpr double MEMBRANE_BYTES = 625;
+constexpr double MEMBRANE_SECONDS = 3.80e-07;
 
 } // namespace
 
@@ -41,6 +44,7 @@ CostRates measured_rates() {
     CostRates r;
     r.process_bytes = PROCESS_BYTES;
     r.flow_bytes_per_cell = FLOW_BYTES_PER_CELL;
+    r.flow_bytes_per_cell_hypre = FLOW_BYTES_PER_CELL_HYPRE;
     r.flow_seconds_fft = FLOW_SECONDS_FFT;
     r.flow_seconds_hypre = FLOW_SECONDS_HYPRE;
     r.held_bytes_per_patch_cell = HELD_BYTES;
@@ -111,12 +115,13 @@ RunEstimate estimate_run(const Config& cfg, int ranks, const CostRates& r) {
     }
     const LinearSolverChoice solvers = choose_linear_solvers(cfg);
     const double flow_rate = solvers.viscous_fft ? r.flow_seconds_fft : r.flow_seconds_hypre;
+    const double flow_bytes =
+        solvers.viscous_fft ? r.flow_bytes_per_cell : r.flow_bytes_per_cell_hypre;
     e.bytes_per_rank =
-        r.process_bytes +
-        (e.cells * r.flow_bytes_per_cell + e.held_patch_cells * r.held_bytes_per_patch_cell +
-         e.solid_patch_cells * r.solid_bytes_per_patch_cell +
-         e.membrane_patch_cells * r.membrane_bytes_per_patch_cell) /
-            ranks;
+        r.process_bytes + (e.cells * flow_bytes + e.held_patch_cells * r.held_bytes_per_patch_cell +
+                           e.solid_patch_cells * r.solid_bytes_per_patch_cell +
+                           e.membrane_patch_cells * r.membrane_bytes_per_patch_cell) /
+                              ranks;
     e.seconds_per_step =
         (e.cells * flow_rate + e.solid_patch_cells * r.solid_seconds_per_patch_cell +
          e.membrane_patch_cells * r.membrane_seconds_per_patch_cell) /

@@ -21,8 +21,9 @@ namespace efsi {
 /// Bytes per cell and seconds per cell and step (peak RSS and stage timers of runs on
 /// the development machine, one rank).
 struct CostRates {
-    double process_bytes = 0; ///< per rank: MPI, hypre, FFTW, the libraries
-    double flow_bytes_per_cell = 0;
+    double process_bytes = 0;             ///< per rank: MPI, hypre, FFTW, the libraries
+    double flow_bytes_per_cell = 0;       ///< constant-coefficient (FFT) solves
+    double flow_bytes_per_cell_hypre = 0; ///< viscous solve by hypre (its matrices, PFMG levels)
     double flow_seconds_fft = 0;          ///< per cell and step, constant-coefficient (FFT) solves
     double flow_seconds_hypre = 0;        ///< per cell and step, viscous solve by hypre
     double held_bytes_per_patch_cell = 0; ///< a pinned or passive body: phi (and chi)

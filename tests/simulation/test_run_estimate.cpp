@@ -62,6 +62,7 @@ TEST(RunEstimate, StepFromTheStiffestBodyAndCostOverTheRanks) {
     CostRates r;
     r.process_bytes = 1e6;
     r.flow_bytes_per_cell = 100;
+    r.flow_bytes_per_cell_hypre = 700;
     r.flow_seconds_fft = 1e-8;
     r.flow_seconds_hypre = 1e-7;
     r.solid_bytes_per_patch_cell = 300;
@@ -94,4 +95,9 @@ TEST(RunEstimate, StepFromTheStiffestBodyAndCostOverTheRanks) {
     const RunEstimate empty = estimate_run(case_from(box), 1, r);
     EXPECT_EQ(empty.dt, 0.0);
     EXPECT_DOUBLE_EQ(empty.seconds_per_step, 1e-8 * cells);
+    // A viscosity ratio makes the viscous solve hypre's: its bytes and seconds per cell.
+    const RunEstimate hypre =
+        estimate_run(case_from(box + sphere + capsule, {{"body[1].viscosity_ratio", "5.0"}}), 1, r);
+    EXPECT_DOUBLE_EQ(hypre.bytes_per_rank, 1e6 + 700 * cells + 300 * solid + 500 * membrane);
+    EXPECT_DOUBLE_EQ(hypre.seconds_per_step, 1e-7 * cells + 2e-7 * solid + 3e-7 * membrane);
 }

@@ -15,6 +15,7 @@ THROUGHPUT = REPO / "verification" / "results" / "throughput" / "result.json"
 CONSTANTS = {
     "PROCESS_BYTES": (RESULT, "rate_process_base_bytes", lambda v: v),
     "FLOW_BYTES_PER_CELL": (RESULT, "rate_flow_bytes_per_cell", lambda v: v),
+    "FLOW_BYTES_PER_CELL_HYPRE": (RESULT, "rate_flow_bytes_per_cell_hypre", lambda v: v),
     "FLOW_SECONDS_HYPRE": (RESULT, "rate_flow_seconds_per_cell_step_hypre", lambda v: v),
     "SOLID_BYTES": (RESULT, "rate_solid_bytes_per_patch_cell", lambda v: v),
     "SOLID_SECONDS": (RESULT, "rate_solid_seconds_per_patch_cell_step", lambda v: v),
