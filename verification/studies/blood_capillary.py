@@ -1,7 +1,8 @@
 """Blood in a capillary (issue 20, section 4; seed paper section 3.2, Figs. 2-3).
 
 Three runs of the coarse capillary (44 x 22 x 22 um at 128 x 64 x 64, h = 0.34375 um, until
-session 46 at 64 x 32 x 32; a 20 um tube along x, 400 kPa/m; units um, ms, mPa s, uN/m), the same grid, wall, plasma and driving:
+session 46 at 64 x 32 x 32; a 20 um tube along x, 400 kPa/m; units um, ms, mPa s, uN/m), the
+same grid, wall, plasma and driving:
 - `capillary_coarse`: red cells seeded to Ht 20 % and 4 platelets (seed 2026);
 - `capillary_no_rbc`: the 4 platelets alone (Ht 0; the paper's Fig. 3a);
 - plasma alone (no cells: `capillary_no_rbc` without its [seeding]), for the flow rate the
@@ -106,6 +107,10 @@ BOUNDS = [
 
 R_LUMEN, AXIS_Y, AXIS_Z = 10.0, 11.0, 11.0  # um (cases/capillary_coarse)
 BOX_X = 44.0  # um, the box's length along the vessel (cases/capillary_coarse)
+# The ci tier's grid, an eighth of the case's cells (h = 0.6875 um), and a gap of one cell
+# there; the quick and full tiers also run the plasma alone on it (estimate_rates).
+CI_GRID, CI_GAP = "[64, 32, 32]", "0.6875"
+
 DIAMETER = 2 * R_LUMEN
 TUBE_R, TUBE_AXIS, TUBE_LENGTH = 5.0, 6.0, 24.0  # um (cases/rbc_in_tube)
 
@@ -419,8 +424,8 @@ def run(ctx):
         # The ci tier checks the machinery on the sparse scene (Ht 3 %, a gap of one cell) on
         # a grid of 64 x 32 x 32 (h = 0.6875 um), an eighth of the case's cells: there a gap
         # of one cell packs only 15.7 % (docs/method.md).
-        cell_sets = {"seeding.target_haematocrit": "0.03", "seeding.gap": "0.6875"}
-        sets["grid.cells"] = "[64, 32, 32]"
+        cell_sets = {"seeding.target_haematocrit": "0.03", "seeding.gap": CI_GAP}
+        sets["grid.cells"] = CI_GRID
     else:
         sets["time.end_time"] = repr(tier["t_end"])
         sets["output.fields_interval"] = repr(tier["fields"])
@@ -448,7 +453,7 @@ def run(ctx):
     if tier["t_end"] is not None:
         out["plasma_coarse"] = run_dir / "plasma_coarse"
         cached_run(ctx, runs["plasma"], out["plasma_coarse"],
-                   {**sets, "grid.cells": "[64, 32, 32]"}, tier["t_end"],
+                   {**sets, "grid.cells": CI_GRID}, tier["t_end"],
                    ranks=ctx.long_ranks, allow_unstable=True)
         summary["plasma_coarse"] = json.loads((out["plasma_coarse"] / "summary.json").read_text())
     # The cost on two ranks (issue 20 asks for it): the scene with cells over its first

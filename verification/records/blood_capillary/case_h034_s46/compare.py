@@ -23,10 +23,10 @@ KEYS = [("max_body_overlap", "<= 1e-3"), ("rbc_reference_area_drift_max", "<= 0.
 old = json.loads(subprocess.run(["git", "show", f"{OLD}:{RESULT}"], cwd=REPO, check=True,
                                 capture_output=True, text=True).stdout)
 new = json.loads((REPO / RESULT).read_text())
-lines = [f"# blood_capillary full tier: capillary_coarse at h = 0.6875 um and at h = 0.34375 um",
+lines = ["# blood_capillary full tier: capillary_coarse at h = 0.6875 um and at h = 0.34375 um",
          "", f"Made by `compare.py` (this folder) from the stored result of {OLD} and the "
          "working tree's.", "",
-         "| metric | bound | 64 x 32 x 32, gap 0.2 um (" + OLD + ") | 128 x 64 x 64, gap one cell |",
+         f"| metric | bound | 64 x 32 x 32, gap 0.2 um ({OLD}) | 128 x 64 x 64, gap one cell |",
          "|---|---|---|---|"]
 for k, bound in KEYS:
     a, b = old["metrics"].get(k), new["metrics"].get(k)
@@ -36,5 +36,11 @@ for label, r in (("before", old), ("after", new)):
     for row in r["tables"]["runs"]:
         lines.append(f"- {label}: {row['run']}: {row['status']}, {row['steps']} steps, "
                      f"{row['ranks']} rank(s), {row['wall [s]']} s, load {row['load before']}")
+lines += ["", """The new runs: `EFSI_VERIFY_RANKS` unset (1 rank), `/usr/bin/python3 verification/run.py
+blood_capillary --tier full`, 2026-12-06 12:35-13:42 UTC, binary of ac26edd's solver with the
+case files of session 46; the runs follow each other, so each run's load before is the
+previous run's. During the tube run (the last) a build ran on the other core; no rate is
+taken from the tube run. `plasma_coarse` ran in a second pass of the study (the others
+cached), made for the memory fit of `rate_flow_bytes_per_cell_hypre`."""]
 (HERE / "result.md").write_text("\n".join(lines) + "\n")
 print("\n".join(lines))
