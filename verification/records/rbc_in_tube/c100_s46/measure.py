@@ -1,0 +1,52 @@
+"""The red cell of cases/rbc_in_tube with a stiff-area Skalak membrane (C = 100, the case's
+C = 10 otherwise; issue 20: "C = 100 must run") against the case's own run over the same
+time: per run the time reached and status, the largest area change |A / A(0) - 1|, the
+largest stored-strain drift |A_ref / A - 1|, max tr Gs, the volume drift, the steps and the
+cell's velocity (its centroid's, least squares over the second half). Writes result.md here.
+
+    /usr/bin/python3 verification/records/rbc_in_tube/c100_s46/measure.py C100_RUN C10_RUN
+"""
+import csv
+import json
+import sys
+from pathlib import Path
+
+import numpy as np
+
+HERE = Path(__file__).resolve().parent
+TUBE_LENGTH = 24.0  # um (cases/rbc_in_tube)
+
+
+def measure(out: Path, t_max: float) -> dict:
+    with open(out / "bodies.csv") as f:
+        rows = [r for r in csv.DictReader(f)
+                if r["body"] == "rbc" and float(r["time"]) <= t_max + 1e-9]
+    t = np.array([float(r["time"]) for r in rows])
+    o = np.argsort(t, kind="stable")
+    t = t[o]
+    c = {k: np.array([float(r[k]) for r in rows])[o]
+         for k in ("centroid_x", "volume", "area", "reference_area", "tensor_trace_max")}
+    x = np.unwrap(c["centroid_x"], period=TUBE_LENGTH)
+    half = t >= 0.5 * t[-1]
+    s = json.loads((out / "summary.json").read_text()) if (out / "summary.json").exists() else {}
+    return {"t reached [ms]": float(t[-1]), "status of the whole run": f"{s.get('status', '-')} at {s.get('time', '-')} ms",
+            "area change max": float(np.max(np.abs(c["area"] / c["area"][0] - 1))),
+            "A_ref / A - 1, max": float(np.max(np.abs(c["reference_area"] / c["area"] - 1))),
+            "max tr Gs": float(c["tensor_trace_max"].max()),
+            "volume drift": float(abs(c["volume"][-1] / c["volume"][0] - 1)),
+            "cell velocity [um/ms]": float(np.polyfit(t[half], x[half], 1)[0])}
+
+
+c100, c10 = Path(sys.argv[1]), Path(sys.argv[2])
+a = measure(c100, 1.0)
+b = measure(c10, a["t reached [ms]"])
+lines = ["# A red cell with C = 100 in the 10 um tube (session 46)", "",
+         "Made by `measure.py` (this folder); the C = 10 column is the blood_capillary study's",
+         "full-tier tube run (the case as it is) up to the same time.", "",
+         "| quantity | C = 100 | C = 10 (the case) |", "|---|---|---|"]
+for k in a:
+    fa, fb = a[k], b[k]
+    f = (lambda v: f"{v:.4g}") if not isinstance(fa, str) else str
+    lines.append(f"| {k} | {f(fa)} | {f(fb) if not isinstance(fb, str) else fb} |")
+(HERE / "result.md").write_text("\n".join(lines) + "\n")
+print("\n".join(lines))
