@@ -76,7 +76,7 @@ import h5py
 import numpy as np
 
 from _bounds import Bound
-from _flowio import cached_run
+from _flowio import body_series, cached_run
 from _overlap import overlap, sharp_fraction, smoothing_widths, worst_pair  # noqa: F401 (records)
 
 DESCRIPTION = "blood in a capillary: Ht, apparent viscosity, cell-free layer, platelets, overlap"
@@ -275,12 +275,9 @@ def tube_shape(path, h) -> tuple[float, float]:
 def tube_metrics(out: Path, summary: dict, h: float) -> tuple[dict, dict]:
     """Metrics of the single red cell in the 10 um tube (docstring above), and the series
     the plot shows."""
-    rows = bodies(out)["rbc"]
-    t = np.array([float(r["time"]) for r in rows])
-    o = np.argsort(t, kind="stable")
-    t = t[o]
-    col = {k: np.array([float(r[k]) for r in rows])[o]
-           for k in ("centroid_x", "volume", "area", "reference_area", "tensor_trace_max")}
+    keys = ("centroid_x", "volume", "area", "reference_area", "tensor_trace_max")
+    t, *values = body_series(out, "rbc", keys)
+    col = dict(zip(keys, values))
     x = np.unwrap(col["centroid_x"], period=TUBE_LENGTH)
     t_end = float(summary["time"])
     m = {"t_end_ms_tube": t_end, "reached_end_tube": int(summary["status"] == "completed"),

@@ -6,7 +6,6 @@ cell's velocity (its centroid's, least squares over the second half). Writes res
 
     /usr/bin/python3 verification/records/rbc_in_tube/c100_s46/measure.py C100_RUN C10_RUN
 """
-import csv
 import json
 import sys
 from pathlib import Path
@@ -14,18 +13,17 @@ from pathlib import Path
 import numpy as np
 
 HERE = Path(__file__).resolve().parent
+sys.path.insert(0, str(HERE.parents[2] / "studies"))
+from _flowio import body_series  # noqa: E402 (the studies' reader of bodies.csv)
 TUBE_LENGTH = 24.0  # um (cases/rbc_in_tube)
 
 
 def measure(out: Path, t_max: float) -> dict:
-    with open(out / "bodies.csv") as f:
-        rows = [r for r in csv.DictReader(f)
-                if r["body"] == "rbc" and float(r["time"]) <= t_max + 1e-9]
-    t = np.array([float(r["time"]) for r in rows])
-    o = np.argsort(t, kind="stable")
-    t = t[o]
-    c = {k: np.array([float(r[k]) for r in rows])[o]
-         for k in ("centroid_x", "volume", "area", "reference_area", "tensor_trace_max")}
+    keys = ("centroid_x", "volume", "area", "reference_area", "tensor_trace_max")
+    t, *values = body_series(out, "rbc", keys)
+    keep = t <= t_max + 1e-9
+    t = t[keep]
+    c = {k: v[keep] for k, v in zip(keys, values)}
     x = np.unwrap(c["centroid_x"], period=TUBE_LENGTH)
     half = t >= 0.5 * t[-1]
     s = json.loads((out / "summary.json").read_text()) if (out / "summary.json").exists() else {}
