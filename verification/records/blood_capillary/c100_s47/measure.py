@@ -1,0 +1,95 @@
+"""capillary_coarse with stiff-area red cells (Skalak C = 100; the case has C = 10), issue 20:
+"C = 100 must run". Measures the C = 100 run against the blood_capillary study's full-tier
+runs of the case over the same time: the 2-rank run (`cells_2ranks`, for the cost) and the
+1-rank run with field snapshots (`cells`, for the overlap). Per run: time reached, status,
+steps, time step, seconds per ms, and over the red cells and the rows up to the C = 100
+run's end the largest stored-strain drift |A_ref / A - 1|, the largest area change
+|A / A(0) - 1|, max tr Gs and the volume drift; the largest overlap of two bodies over the
+snapshots up to that time (the study's measure). Writes result.md beside this file.
+
+    /usr/bin/python3 verification/records/blood_capillary/c100_s47/measure.py C100_RUN \
+        build/verification/blood_capillary/runs/full/cells_2ranks \
+        build/verification/blood_capillary/runs/full/cells
+"""
+import csv
+import json
+import sys
+from pathlib import Path
+
+import numpy as np
+
+HERE = Path(__file__).resolve().parent
+sys.path.insert(0, str(HERE.parents[2] / "studies"))
+from _overlap import overlap, smoothing_widths  # noqa: E402 (the study's measure)
+from blood_capillary import snapshot_time, snapshots  # noqa: E402
+
+
+def rows_to(out: Path, t_max: float) -> dict:
+    per = {}
+    with open(out / "bodies.csv") as f:
+        for r in csv.DictReader(f):
+            if float(r["time"]) <= t_max + 1e-9:
+                per.setdefault(r["body"], []).append(r)
+    return per
+
+
+def measure(out: Path, t_max: float) -> dict:
+    s = json.loads((out / "summary.json").read_text()) if (out / "summary.json").exists() else {}
+    per = rows_to(out, t_max)
+    drift = area = trace = vol = 0.0
+    t_last = 0.0
+    for name, rows in per.items():
+        if name == "wall":
+            continue
+        v0 = float(rows[0]["volume"])
+        vol = max(vol, abs(float(rows[-1]["volume"]) / v0 - 1))
+        t_last = max(t_last, float(rows[-1]["time"]))
+        if not name.startswith("rbc"):
+            continue
+        a0 = float(rows[0]["area"])
+        for r in rows:
+            a, a_ref = float(r["area"]), float(r["reference_area"])
+            area = max(area, abs(a / a0 - 1))
+            trace = max(trace, float(r["tensor_trace_max"]))
+            if a > 0 and a_ref > 0:
+                drift = max(drift, abs(a_ref / a - 1))
+    with open(out / "diagnostics.csv") as f:
+        diag = [r for r in csv.DictReader(f) if float(r["time"]) <= t_max + 1e-9]
+    dts = [float(r["dt"]) for r in diag if float(r["dt"]) > 0]
+    steps = int(diag[-1]["step"])
+    wall = float(s.get("wall_seconds", np.nan))
+    t_run = float(s.get("time", np.nan))
+    return {"t reached [ms]": t_last, "status of the run": f"{s.get('status', '-')} at {t_run:.4g} ms",
+            "ranks": s.get("ranks", "-"), "steps to t": steps,
+            "time step [ms] (median)": float(np.median(dts)),
+            "seconds per ms (whole run)": wall / t_run,
+            "A_ref / A - 1, max over the red cells": drift,
+            "area change max over the red cells": area,
+            "max tr Gs over the red cells": trace,
+            "volume drift max": vol}
+
+
+def worst_overlap(out: Path, t_max: float):
+    snaps = [p for p in snapshots(out) if snapshot_time(p) <= t_max + 1e-9]
+    w = smoothing_widths(out)
+    return max(overlap(p, w) for p in snaps), len(snaps)
+
+
+c100, c10_2, c10_1 = (Path(a) for a in sys.argv[1:4])
+a = measure(c100, np.inf)
+t = a["t reached [ms]"]
+b = measure(c10_2, t)
+ov_a, na = worst_overlap(c100, t)
+ov_b, nb = worst_overlap(c10_1, t)
+fmt = lambda v: v if isinstance(v, str) else (f"{v:.4g}" if isinstance(v, float) else str(v))
+lines = ["# capillary_coarse with C = 100 red cells (session 47)", "",
+         "Made by `measure.py` (this folder). The C = 10 column is the case as it is, from the "
+         "blood_capillary study's full-tier runs up to the same time: `cells_2ranks` for "
+         "everything but the overlap, `cells` (1 rank, field snapshots) for the overlap.", "",
+         "| quantity | C = 100 | C = 10 (the case) |", "|---|---|---|"]
+for k in a:
+    lines.append(f"| {k} | {fmt(a[k])} | {fmt(b[k])} |")
+lines.append(f"| largest overlap of two bodies (sharp red cells), snapshots to t | "
+             f"{ov_a:.3g} ({na} snapshots) | {ov_b:.3g} ({nb} snapshots) |")
+(HERE / "result.md").write_text("\n".join(lines) + "\n")
+print("\n".join(lines))
