@@ -8,13 +8,16 @@ older names (cell_updates_per_second_np<r>, pressure_fraction_np<r>, speedup_np2
 seconds_per_step_np<r>) are kept: the pages and the stored result use them. The direct
 pressure solve alone (build/bin/efsi_fft_solve_ranks, periodic and with walls in y, 1 and 2
 ranks): fft_solve_ms_<periodic|walls>_np<r> and fft_redistribution_ms_... (the slowest
-rank's time in the slab transposes), table fft_solve."""
+rank's time in the slab transposes), table fft_solve. The triad alone and in two processes at
+once (triad_bytes_per_second_1proc, triad_bytes_per_second_2procs, triad_speedup_2procs): the
+machine's own ceiling for the 2-rank speedup of a step bound by memory traffic."""
 from __future__ import annotations
 
 import json
 import os
 import platform
 import re
+import subprocess
 
 from _bounds import Bound  # noqa: E402
 
@@ -135,6 +138,13 @@ def run(ctx):
             k["fraction_of_triad"] = k["bytes_per_second"] / triad["bytes_per_second"]
             name = k["kernel"].removeprefix("BM_").split("/")[0]
             metrics[f"kernel_triad_fraction_{name}"] = k["fraction_of_triad"]
+    # The machine's own two-core ceiling for streaming code: the triad alone, then in two
+    # processes at once (one per core, as the 2-rank run has them). A memory-bound step
+    # cannot scale past this ratio on this machine.
+    alone, pair = triad_alone_and_pair(ctx)
+    metrics["triad_bytes_per_second_1proc"] = alone
+    metrics["triad_bytes_per_second_2procs"] = sum(pair)
+    metrics["triad_speedup_2procs"] = sum(pair) / alone
     fft = fft_solves(ctx, n)
     for f in fft:
         tag = f"{'walls' if f['walls'] else 'periodic'}_np{f['ranks']}"
@@ -169,7 +179,9 @@ def run(ctx):
         "triad_bytes_per_second: STREAM triad of efsi_benchmarks in the same study run, "
         "bytes_per_cell_update = triad_bytes_per_second / cell_updates_per_second_1rank_128; "
         "the kernels table: each sweep's bytes per second (benchmarks/bench_sweeps.cpp) and "
-        "its fraction of the triad. Machine "
+        "its fraction of the triad; triad_speedup_2procs: the triad alone and then in two "
+        "processes at once (one per core), the summed bandwidth over the single one, the "
+        "ceiling of speedup_2ranks for a step bound by memory traffic. Machine "
         f"{state}: 1-minute load average before/after {load_before[0]:.2f} / "
         f"{load_after[0]:.2f} (the runs themselves raise it; other jobs lower and scatter the "
         "figures, and a loaded machine hurts the 2-rank run most).")
@@ -215,14 +227,48 @@ SWEEPS = ["BM_AdvectionSweepFused", "BM_PredictorSweep", "BM_CorrectionSweep",
 BENCH_MIN_TIME = {"ci": "0.01", "quick": "0.2", "full": "0.5"}
 
 
-def stream_and_sweeps(ctx) -> list[dict]:
-    """Run efsi_benchmarks (next to the efsi binary) for the triad and the flow sweeps;
-    bytes_per_second as Google Benchmark reports it (bytes / CPU time)."""
+TRIAD_MIN_TIME = {"ci": "0.05", "quick": "0.5", "full": "1.0"}
+
+
+def triad_alone_and_pair(ctx) -> tuple[float, list[float]]:
+    """BM_StreamTriad's bytes per second in one process alone, then in each of two processes
+    started together (independent MPI singletons, each writing its own JSON)."""
+    exe = benchmarks_exe(ctx)
+    cmd = [str(exe), "--benchmark_filter=StreamTriad", "--benchmark_format=json",
+           f"--benchmark_min_time={TRIAD_MIN_TIME[ctx.tier]}"]
+    env = dict(os.environ)
+    env.setdefault("OMPI_ALLOW_RUN_AS_ROOT", "1")
+    env.setdefault("OMPI_ALLOW_RUN_AS_ROOT_CONFIRM", "1")
+
+    def rate(stdout: str) -> float:
+        return float(json.loads(stdout)["benchmarks"][0]["bytes_per_second"])
+
+    alone = rate(ctx.run(cmd).stdout)
+    ctx.commands.append(" ".join(cmd) + "  (two at once)")
+    procs = [subprocess.Popen(cmd, cwd=ctx.repo, env=env, stdout=subprocess.PIPE,
+                              stderr=subprocess.PIPE, text=True) for _ in range(2)]
+    pair = []
+    for p in procs:
+        out, err = p.communicate()
+        if p.returncode != 0:
+            raise RuntimeError(f"{' '.join(cmd)} failed ({p.returncode}): {err[-2000:]}")
+        pair.append(rate(out))
+    return alone, pair
+
+
+def benchmarks_exe(ctx):
     exe = ctx.efsi.parent / "efsi_benchmarks"
     if not exe.exists():  # EFSI_BIN may name a build without benchmarks (debug preset)
         exe = ctx.repo / "build" / "bin" / "efsi_benchmarks"
     if not exe.exists():
         raise RuntimeError(f"{exe} not built: the triad runs in the same study run")
+    return exe
+
+
+def stream_and_sweeps(ctx) -> list[dict]:
+    """Run efsi_benchmarks (next to the efsi binary) for the triad and the flow sweeps;
+    bytes_per_second as Google Benchmark reports it (bytes / CPU time)."""
+    exe = benchmarks_exe(ctx)
     n = BENCH_N[ctx.tier]
     res = ctx.run([exe, f"--benchmark_filter=StreamTriad|({'|'.join(SWEEPS)})/{n}$",
                    "--benchmark_format=json",

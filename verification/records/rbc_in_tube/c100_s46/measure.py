@@ -35,16 +35,23 @@ def measure(out: Path, t_max: float) -> dict:
             "cell velocity [um/ms]": float(np.polyfit(t[half], x[half], 1)[0])}
 
 
-c100, c10 = Path(sys.argv[1]), Path(sys.argv[2])
-a = measure(c100, 1.0)
-b = measure(c10, a["t reached [ms]"])
-lines = ["# A red cell with C = 100 in the 10 um tube (session 46)", "",
-         "Made by `measure.py` (this folder); the C = 10 column is the blood_capillary study's",
-         "full-tier tube run (the case as it is) up to the same time.", "",
-         "| quantity | C = 100 | C = 10 (the case) |", "|---|---|---|"]
-for k in a:
-    fa, fb = a[k], b[k]
-    f = (lambda v: f"{v:.4g}") if not isinstance(fa, str) else str
-    lines.append(f"| {k} | {f(fa)} | {f(fb) if not isinstance(fb, str) else fb} |")
-(HERE / "result.md").write_text("\n".join(lines) + "\n")
-print("\n".join(lines))
+def report(c100: Path, c10: Path, t_max: float, out: Path, title: str) -> str:
+    """The table of both runs up to t_max (the C = 100 run's time reached), into out."""
+    a = measure(c100, t_max)
+    b = measure(c10, a["t reached [ms]"])
+    lines = [f"# {title}", "",
+             "Made by `measure.py` (this folder); the C = 10 column is the blood_capillary study's",
+             "full-tier tube run (the case as it is) up to the same time.", "",
+             "| quantity | C = 100 | C = 10 (the case) |", "|---|---|---|"]
+    for k in a:
+        fa, fb = a[k], b[k]
+        f = (lambda v: f"{v:.4g}") if not isinstance(fa, str) else str
+        lines.append(f"| {k} | {f(fa)} | {f(fb) if not isinstance(fb, str) else fb} |")
+    text = "\n".join(lines) + "\n"
+    (out / "result.md").write_text(text)
+    return text
+
+
+if __name__ == "__main__":
+    print(report(Path(sys.argv[1]), Path(sys.argv[2]), 1.0, HERE,
+                 "A red cell with C = 100 in the 10 um tube (session 46)"), end="")
