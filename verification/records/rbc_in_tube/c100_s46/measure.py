@@ -2,7 +2,9 @@
 C = 10 otherwise; issue 20: "C = 100 must run") against the case's own run over the same
 time: per run the time reached and status, the largest area change |A / A(0) - 1|, the
 largest stored-strain drift |A_ref / A - 1|, max tr Gs, the volume drift, the steps and the
-cell's velocity (its centroid's, least squares over the second half). Writes result.md here.
+cell's velocity (its centroid's, least squares over the second half). Writes result.md here
+(the row A_ref / A_ref(0) - 1, the reference area's own change, was added in session 47, after
+this record's result.md was made).
 
     /usr/bin/python3 verification/records/rbc_in_tube/c100_s46/measure.py C100_RUN C10_RUN
 """
@@ -30,6 +32,8 @@ def measure(out: Path, t_max: float) -> dict:
     return {"t reached [ms]": float(t[-1]), "status of the whole run": f"{s.get('status', '-')} at {s.get('time', '-')} ms",
             "area change max": float(np.max(np.abs(c["area"] / c["area"][0] - 1))),
             "A_ref / A - 1, max": float(np.max(np.abs(c["reference_area"] / c["area"] - 1))),
+            "A_ref / A_ref(0) - 1, max": float(np.max(np.abs(c["reference_area"]
+                                                           / c["reference_area"][0] - 1))),
             "max tr Gs": float(c["tensor_trace_max"].max()),
             "volume drift": float(abs(c["volume"][-1] / c["volume"][0] - 1)),
             "cell velocity [um/ms]": float(np.polyfit(t[half], x[half], 1)[0])}
