@@ -74,11 +74,9 @@ class Context:
             return []
         return ["mpirun", "--oversubscribe", "-np", str(ranks)]
 
-    def run(self, cmd: list[str], ranks: int = 1, cwd: Path | None = None,
-            check: bool = True, timeout: float | None = None) -> subprocess.CompletedProcess:
-        """Run a command (under mpirun when ranks > 1), record it, return the result."""
-        full = self.mpi_prefix(ranks) + [str(c) for c in cmd]
-        self.commands.append(" ".join(full))
+    @staticmethod
+    def env() -> dict:
+        """The environment the studies' commands run in (MPI as root, oversubscription)."""
         env = dict(os.environ)
         env.setdefault("OMPI_ALLOW_RUN_AS_ROOT", "1")
         env.setdefault("OMPI_ALLOW_RUN_AS_ROOT_CONFIRM", "1")
@@ -87,7 +85,14 @@ class Context:
         # ranks than cores) busy-polling ranks starve each other (2D capsule d/8, 2 ranks on
         # a loaded 2-core machine: 16.2 s busy-waiting, 5.1 s yielding).
         env.setdefault("OMPI_MCA_mpi_yield_when_idle", "1")
-        res = subprocess.run(full, cwd=cwd or REPO, env=env, capture_output=True,
+        return env
+
+    def run(self, cmd: list[str], ranks: int = 1, cwd: Path | None = None,
+            check: bool = True, timeout: float | None = None) -> subprocess.CompletedProcess:
+        """Run a command (under mpirun when ranks > 1), record it, return the result."""
+        full = self.mpi_prefix(ranks) + [str(c) for c in cmd]
+        self.commands.append(" ".join(full))
+        res = subprocess.run(full, cwd=cwd or REPO, env=self.env(), capture_output=True,
                              text=True, timeout=timeout)
         if check and res.returncode != 0:
             raise RuntimeError(f"command failed ({res.returncode}): {' '.join(full)}\n"

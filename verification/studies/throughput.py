@@ -236,16 +236,13 @@ def triad_alone_and_pair(ctx) -> tuple[float, list[float]]:
     exe = benchmarks_exe(ctx)
     cmd = [str(exe), "--benchmark_filter=StreamTriad", "--benchmark_format=json",
            f"--benchmark_min_time={TRIAD_MIN_TIME[ctx.tier]}"]
-    env = dict(os.environ)
-    env.setdefault("OMPI_ALLOW_RUN_AS_ROOT", "1")
-    env.setdefault("OMPI_ALLOW_RUN_AS_ROOT_CONFIRM", "1")
 
     def rate(stdout: str) -> float:
         return float(json.loads(stdout)["benchmarks"][0]["bytes_per_second"])
 
     alone = rate(ctx.run(cmd).stdout)
     ctx.commands.append(" ".join(cmd) + "  (two at once)")
-    procs = [subprocess.Popen(cmd, cwd=ctx.repo, env=env, stdout=subprocess.PIPE,
+    procs = [subprocess.Popen(cmd, cwd=ctx.repo, env=ctx.env(), stdout=subprocess.PIPE,
                               stderr=subprocess.PIPE, text=True) for _ in range(2)]
     pair = []
     for p in procs:
