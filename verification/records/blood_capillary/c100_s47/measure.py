@@ -21,39 +21,30 @@ import numpy as np
 HERE = Path(__file__).resolve().parent
 sys.path.insert(0, str(HERE.parents[2] / "studies"))
 from _overlap import overlap, smoothing_widths  # noqa: E402 (the study's measure)
-from blood_capillary import snapshot_time, snapshots  # noqa: E402
+from blood_capillary import (bodies, reference_area_drift, snapshot_time,  # noqa: E402
+                             snapshots, volume_drift)
 
 
 def rows_to(out: Path, t_max: float) -> dict:
-    per = {}
-    with open(out / "bodies.csv") as f:
-        for r in csv.DictReader(f):
-            if float(r["time"]) <= t_max + 1e-9:
-                per.setdefault(r["body"], []).append(r)
-    return per
+    """The study's bodies.csv rows per body (blood_capillary.bodies), up to t_max."""
+    return {name: [r for r in rows if float(r["time"]) <= t_max + 1e-9]
+            for name, rows in bodies(out).items()}
 
 
 def measure(out: Path, t_max: float) -> dict:
     s = json.loads((out / "summary.json").read_text()) if (out / "summary.json").exists() else {}
-    per = rows_to(out, t_max)
-    drift = area = ref = trace = vol = 0.0
-    t_last = 0.0
+    per = {name: rows for name, rows in rows_to(out, t_max).items() if rows}
+    drift, vol = reference_area_drift(per), volume_drift(per)
+    t_last = max(float(rows[-1]["time"]) for name, rows in per.items() if name != "wall")
+    area = ref = trace = 0.0
     for name, rows in per.items():
-        if name == "wall":
-            continue
-        v0 = float(rows[0]["volume"])
-        vol = max(vol, abs(float(rows[-1]["volume"]) / v0 - 1))
-        t_last = max(t_last, float(rows[-1]["time"]))
         if not name.startswith("rbc"):
             continue
         a0, r0 = float(rows[0]["area"]), float(rows[0]["reference_area"])
         for r in rows:
+            area = max(area, abs(float(r["area"]) / a0 - 1))
             ref = max(ref, abs(float(r["reference_area"]) / r0 - 1))
-            a, a_ref = float(r["area"]), float(r["reference_area"])
-            area = max(area, abs(a / a0 - 1))
             trace = max(trace, float(r["tensor_trace_max"]))
-            if a > 0 and a_ref > 0:
-                drift = max(drift, abs(a_ref / a - 1))
     with open(out / "diagnostics.csv") as f:
         diag = [r for r in csv.DictReader(f) if float(r["time"]) <= t_max + 1e-9]
     dts = [float(r["dt"]) for r in diag if float(r["dt"]) > 0]
