@@ -31,6 +31,21 @@
 
 namespace efsi {
 
+/// A run of cells i in [lo, hi) of the row (j, k) (block-local indices).
+struct RowSpan {
+    int j, k, lo, hi;
+};
+/// The cells a sweep updates, as runs ordered by k, then j, then i (runs of one row do not
+/// overlap).
+using RowSpans = std::vector<RowSpan>;
+
+/// For each of `reaches`, the runs of the cells of `box` within that many cells (in each
+/// direction: a cube) of a cell of `phi` with lo <= phi <= 1 - lo. phi's halo must be filled
+/// and as wide as the largest reach (its values there decide as their owners' do, so the runs
+/// of neighbouring ranks agree); along a direction without halo (z in 2D) the reach is 0.
+std::vector<RowSpans> band_spans(const Field& phi, const Box& box, real lo,
+                                 const std::vector<int>& reaches);
+
 /// Velocity gradient L_ij = dv_i/dx_j at the centre of cell p (zero rows/columns past dim).
 Matrix3 velocity_gradient_at(const VelocityField& u, const GlobalGrid& g, const Int3& p);
 
@@ -56,25 +71,30 @@ void transport_correct(const Box& box, const SymmetricTensorField& t1, const Fie
 void transport_predict(const Box& box, const SymmetricTensorField* t,
                        const std::vector<const Field*>& sc, const std::vector<int>& source,
                        const VelocityField& u, const GlobalGrid& g, real dt, std::vector<Field>& k1,
-                       SymmetricTensorField* t1, const std::vector<Field*>& sc1);
+                       SymmetricTensorField* t1, const std::vector<Field*>& sc1,
+                       const RowSpans* spans = nullptr);
 void transport_correct(const Box& box, const SymmetricTensorField* t1,
                        const std::vector<const Field*>& sc1, const std::vector<int>& source,
                        const VelocityField& u, const GlobalGrid& g, real dt,
                        const std::vector<Field>& k1, SymmetricTensorField* t,
-                       const std::vector<Field*>& sc);
+                       const std::vector<Field*>& sc, const RowSpans* spans = nullptr);
 
 class BodyTransport {
   public:
     explicit BodyTransport(const HaloFiller& halos) : halos_(halos) {}
     /// Advance the body's tensor (unless `tensor` is false), kappa_R and reference map by dt
-    /// with the face velocity u (halos filled).
-    void advance(Body& body, const VelocityField& u, real dt, bool tensor = true);
+    /// with the face velocity u (halos filled). `band_phi` > 0: the tensor only on the cells
+    /// within 2 cells (a cube) of one with band_phi <= phi <= 1 - band_phi, its first stage
+    /// within 4 (its values elsewhere are left as they were); the scalars on the whole patch.
+    void advance(Body& body, const VelocityField& u, real dt, bool tensor = true,
+                 real band_phi = 0);
 
   private:
     const HaloFiller& halos_;
     std::vector<Field> k1_;
     SymmetricTensorField stage_;       ///< T^n + dt k1
     std::vector<Field> stage_scalars_; ///< the scalars' T^n + dt k1
+    Field band_;                       ///< band_phi: phi with a halo of 4
 };
 
 } // namespace efsi

@@ -205,6 +205,13 @@ std::vector<BodyConfig> read_bodies(TableReader& top, const GlobalGrid& grid,
             "psi / (length of grad psi) along the normal (one Newton step, exact where psi is a "
             "distance times a constant) instead of psi; the map's gradient is corrected for "
             "that distance (docs/method.md, \"What tears the trailing rim\")");
+        b.band_transport = r.boolean(
+            "band_transport", true,
+            "membrane, strain_model = tensor, strain_extension = normal: Gs is transported only "
+            "on the cells within 2 cells of the extension's band (|psi| <= its reach), the only "
+            "ones whose transported Gs the extension reads; false: on the whole patch (the same "
+            "values where they are read, at more cost; docs/method.md, \"Transport on the "
+            "band\")");
         b.profile_iterations =
             int(r.integer("profile_iterations", 2, Range::closed(0, 100),
                           "membrane: pseudo-steps per time step of the conservative "

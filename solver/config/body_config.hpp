@@ -140,6 +140,9 @@ struct BodyConfig {
     /// strain_extension = normal: foot points psi / |grad psi| along the normal, not psi
     /// (NormalExtension's newton_foot).
     bool newton_foot_points = false;
+    /// strain_model = tensor, strain_extension = normal: Gs transported only near the
+    /// extension's band (BodyTransport::advance's band_phi), not on the whole patch.
+    bool band_transport = true;
 
     /// A membrane whose strain is derived from a transported reference map.
     bool carries_reference_map() const {

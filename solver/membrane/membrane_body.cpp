@@ -166,7 +166,14 @@ void MembraneBody::carry_tensor(Body& body, const BodyStep& s) {
         });
     // With a reference map only the map (and kappa_R) is carried; Gs is rebuilt from it.
     const bool tensor = !cfg_.carries_reference_map();
-    s.timers.time("bodies_tensor", [&] { transport_->advance(body, *carrier, s.dt, tensor); });
+    // A carried Gs extended along the normals: the extension keeps the transported Gs only
+    // in its core and reads it at foot points on the surface, and sets every other cell of
+    // the patch, so Gs is transported near the band only (|psi| <= the reach, phi >= band).
+    real band = 0;
+    if (tensor && normal_extension_ && cfg_.band_transport)
+        band = 0.5 * (1 - std::tanh(normal_extension_->reach_cells() / cfg_.smoothing_width));
+    s.timers.time("bodies_tensor",
+                  [&] { transport_->advance(body, *carrier, s.dt, tensor, band); });
 }
 
 real MembraneBody::restore_profile(Body& body, const BodyStep& s) {

@@ -10,6 +10,7 @@
 
 #include <algorithm>
 #include <cmath>
+#include <tuple>
 #include <vector>
 
 using namespace efsi;
@@ -114,4 +115,134 @@ TEST(BodyTransportSweep, MatchesThePointwiseKernels3D) {
 
 TEST(BodyTransportSweep, MatchesThePointwiseKernels2D) {
     check_heun(2);
+}
+
+namespace {
+
+/// A shell: phi = 1/2 + (0.3 - |x - c|) / 0.2 clamped, over cells of a block of n^3 (2D: n^2).
+Field shell(const Box& box, int dim, int halo) {
+    Field phi = Field::on_patch("phi", Location::Cell, box.lo, box.size(), dim, halo);
+    const Int3 b = phi.begin(), h = phi.halo(), n = phi.cells();
+    for (int k = b[2] - h[2]; k < b[2] + n[2] + h[2]; ++k)
+        for (int j = b[1] - h[1]; j < b[1] + n[1] + h[1]; ++j)
+            for (int i = b[0] - h[0]; i < b[0] + n[0] + h[0]; ++i) {
+                const real r = std::hypot(i - 9.3, j - 8.1, dim == 3 ? k - 7.6 : 0.0);
+                phi(i, j, k) = std::clamp(0.5 + (5.0 - r) / 2.5, 0.0, 1.0);
+            }
+    return phi;
+}
+
+/// The runs as a set of cells.
+std::vector<Int3> cells_of(const RowSpans& runs) {
+    std::vector<Int3> out;
+    for (const RowSpan& r : runs)
+        for (int i = r.lo; i < r.hi; ++i)
+            out.push_back({i, r.j, r.k});
+    return out;
+}
+
+void check_band_spans(int dim) {
+    const Box box{{1, 2, dim == 3 ? 1 : 0}, {18, 15, dim == 3 ? 16 : 1}};
+    const Field phi = shell(box, dim, 4);
+    const real lo = 0.05;
+    const std::vector<RowSpans> runs = band_spans(phi, box, lo, {3, 1});
+    for (int q = 0; q < 2; ++q) {
+        const int reach = q == 0 ? 3 : 1;
+        // By brute force: a cell of the box is in when a band cell lies within the cube.
+        std::vector<Int3> expect;
+        for_each_in(box, [&](int i, int j, int k) {
+            bool in = false;
+            const int rz = dim == 3 ? reach : 0;
+            for (int c = -rz; c <= rz && !in; ++c)
+                for (int b = -reach; b <= reach && !in; ++b)
+                    for (int a = -reach; a <= reach && !in; ++a) {
+                        const real f = phi(i + a, j + b, k + c);
+                        in = f >= lo && f <= 1 - lo;
+                    }
+            if (in) expect.push_back({i, j, k});
+        });
+        std::vector<Int3> got = cells_of(runs[q]);
+        auto order = [](const Int3& x, const Int3& y) {
+            return std::tie(x[2], x[1], x[0]) < std::tie(y[2], y[1], y[0]);
+        };
+        EXPECT_TRUE(std::is_sorted(got.begin(), got.end(), order)) << "reach " << reach;
+        EXPECT_EQ(got, expect) << "reach " << reach;
+        EXPECT_GT(got.size(), 0u);
+        EXPECT_LT(got.size(), std::size_t(box.count()));
+    }
+}
+
+/// Heun's two stages on the band's runs (the first within 4 cells, the second within 2)
+/// against the same stages on the whole box: the same values, bit for bit, on the second
+/// stage's cells, and the old values elsewhere.
+void check_band_heun(int dim) {
+    GlobalGrid g;
+    g.dim = dim;
+    g.cells = {20, 17, dim == 3 ? 18 : 1};
+    g.length = {1.3, 0.7, dim == 3 ? 1.1 : 0.1};
+    LocalBlock block;
+    block.cells = g.cells;
+    VelocityField u("u", block, dim);
+    for (int d = 0; d < dim; ++d)
+        fill_all(u[d], 10 + d);
+    const Box box{{1, 2, dim == 3 ? 1 : 0}, {18, 15, dim == 3 ? 16 : 1}};
+    const Field phi = shell(box, dim, 4);
+    SymmetricTensorField t;
+    t.dim = dim;
+    for (int s = 0; s < SymmetricTensorField::count(dim); ++s) {
+        t.comp.push_back(Field::on_patch("T", Location::Cell, box.lo, box.size(), dim));
+        fill_all(t.comp.back(), s);
+    }
+    const int n = int(t.comp.size());
+    const real dt = 0.01;
+    std::vector<Field> k1(n, t.comp[0]);
+    SymmetricTensorField t1 = t, whole = t, band = t;
+    transport_predict(box, &whole, {}, {}, u, g, dt, k1, &t1, {});
+    transport_correct(box, &t1, {}, {}, u, g, dt, k1, &whole, {});
+    const std::vector<RowSpans> runs = band_spans(phi, box, 0.05, {2, 4});
+    SymmetricTensorField b1 = t;
+    std::vector<Field> bk1(n, t.comp[0]);
+    for (Field& c : b1.comp) // stale values where the first stage does not write (the halos
+        for_each_in(box, [&](int i, int j, int k) { c(i, j, k) = 1e30; }); // as the whole's)
+    transport_predict(box, &band, {}, {}, u, g, dt, bk1, &b1, {}, &runs[1]);
+    transport_correct(box, &b1, {}, {}, u, g, dt, bk1, &band, {}, &runs[0]);
+    std::vector<char> in(std::size_t(box.count()), 0);
+    auto at = [&](const Int3& p) {
+        return std::size_t((p[2] - box.lo[2]) * box.size()[1] + (p[1] - box.lo[1])) *
+                   box.size()[0] +
+               std::size_t(p[0] - box.lo[0]);
+    };
+    for (const Int3& p : cells_of(runs[0]))
+        in[at(p)] = 1;
+    int checked = 0;
+    for_each_in(box, [&](int i, int j, int k) {
+        const Int3 p{i, j, k};
+        for (int s = 0; s < n; ++s) {
+            if (in[at(p)]) {
+                EXPECT_EQ(band.comp[s](p), whole.comp[s](p)) << i << " " << j << " " << k;
+                ++checked;
+            } else {
+                EXPECT_EQ(band.comp[s](p), t.comp[s](p));
+            }
+        }
+    });
+    EXPECT_GT(checked, 0);
+}
+
+} // namespace
+
+TEST(BodyTransportBand, SpansAreTheBandWidenedByACube3D) {
+    check_band_spans(3);
+}
+
+TEST(BodyTransportBand, SpansAreTheBandWidenedByACube2D) {
+    check_band_spans(2);
+}
+
+TEST(BodyTransportBand, BandStagesEqualTheWholeBoxsOnTheBand3D) {
+    check_band_heun(3);
+}
+
+TEST(BodyTransportBand, BandStagesEqualTheWholeBoxsOnTheBand2D) {
+    check_band_heun(2);
 }
