@@ -7,6 +7,7 @@
 
 #include <algorithm>
 #include <cstring>
+#include <map>
 #include <sstream>
 
 namespace efsi {
@@ -299,6 +300,7 @@ void read_checkpoint(const fs::path& file, const Decomposition& dec, FlowState& 
             f.read_string_attribute("attributes_checksum", "integrity"))
             throw InputError(at + ": the checkpoint's attributes (time, step, patches) do not "
                                   "match their checksum: the file is corrupted");
+        std::vector<Box> written_box; // each body's stored (written) box
         for (Body* b : bodies) {
             const std::string base = "body_" + b->name() + "_";
             Box box;
@@ -317,9 +319,24 @@ void read_checkpoint(const fs::path& file, const Decomposition& dec, FlowState& 
                         int(f.read_attribute(base + "fitted_hi" + std::to_string(d)));
                 }
             b->allocate(patch);
+            written_box.push_back(box);
         }
-        for (const auto& [name, field] : datasets(s, bodies))
-            f.read_block(name, *field, true);
+        // A body's datasets hold its stored box; on this layout its patch may be wider (the
+        // widening depends on the layout), so their checksums cover the stored box only.
+        std::map<const Field*, const Box*> written;
+        for (std::size_t q = 0; q < bodies.size(); ++q) {
+            Body& b = *bodies[q];
+            written[&b.phi()] = &written_box[q];
+            for (const Field& c : b.tensor().comp)
+                written[&c] = &written_box[q];
+            if (const Field* kr = b.reference_curvature()) written[kr] = &written_box[q];
+            for (const Field& c : b.reference_map())
+                written[&c] = &written_box[q];
+        }
+        for (const auto& [name, field] : datasets(s, bodies)) {
+            const auto it = written.find(field);
+            f.read_block(name, *field, true, it == written.end() ? nullptr : it->second);
+        }
         for (const auto& [group, r] : records) {
             r->reals.clear();
             r->integers.clear();

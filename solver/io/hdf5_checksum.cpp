@@ -12,7 +12,7 @@
 namespace efsi {
 
 std::uint64_t Hdf5File::block_checksum(const Decomposition& dec, const Field& f,
-                                       const std::vector<double>& values) {
+                                       const std::vector<double>& values, const Box* only) {
     const GlobalGrid& g = dec.grid();
     const LocalBlock& b = dec.block();
     const Box own = f.owned();
@@ -26,7 +26,12 @@ std::uint64_t Hdf5File::block_checksum(const Decomposition& dec, const Field& f,
                                        std::uint64_t(b.offset[1] + j)) *
                                           std::uint64_t(g.cells[0]) +
                                       std::uint64_t(b.offset[0] + own.lo[0]);
-            for (int i = 0; i < n0; ++i) {
+            const bool row_in =
+                !only || (b.offset[1] + j >= only->lo[1] && b.offset[1] + j < only->hi[1] &&
+                          b.offset[2] + k >= only->lo[2] && b.offset[2] + k < only->hi[2]);
+            for (int i = 0; i < n0 && row_in; ++i) {
+                const int gi = b.offset[0] + own.lo[0] + i;
+                if (only && (gi < only->lo[0] || gi >= only->hi[0])) continue;
                 std::uint64_t bits = 0;
                 std::memcpy(&bits, v + i, sizeof bits);
                 sum += splitmix64(splitmix64(row + std::uint64_t(i)) ^ bits);

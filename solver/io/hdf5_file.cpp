@@ -324,7 +324,8 @@ std::uint64_t Hdf5File::read_checksum(const std::string& name, const Field& f) {
     return block_checksum(dec_, f, buf);
 }
 
-void Hdf5File::read_block(const std::string& name, Field& f, bool require_checksum) {
+void Hdf5File::read_block(const std::string& name, Field& f, bool require_checksum,
+                          const Box* written) {
     if (!has(name)) throw InputError(fmt::format("{}: has no dataset '{}'", path_.string(), name));
     std::vector<double>& buf = scratch_;
     std::string why;
@@ -336,7 +337,7 @@ void Hdf5File::read_block(const std::string& name, Field& f, bool require_checks
                                      why.empty() ? "dataset '" + name + "' cannot be read" : why));
     const std::uint64_t stored = stored_checksum(name);
     if (stored != 0 || require_checksum) {
-        const std::uint64_t sum = block_checksum(dec_, f, buf);
+        const std::uint64_t sum = block_checksum(dec_, f, buf, written);
         if (stored == 0)
             throw InputError(fmt::format("{}: dataset '{}' has no checksum", path_.string(), name));
         if (sum != stored)
@@ -344,12 +345,23 @@ void Hdf5File::read_block(const std::string& name, Field& f, bool require_checks
                                          "{:016x}, data {:016x}): the file is corrupted",
                                          path_.string(), name, stored, sum));
     }
+    // Points outside `written` keep the values `f` holds (the dataset has its fill value 0
+    // there: nothing was written).
     const Box own = f.owned();
+    const Int3 off = dec_.block().offset;
     const int n0 = own.hi[0] - own.lo[0];
     const double* from = buf.data();
     for (int k = own.lo[2]; k < own.hi[2] && n0 > 0; ++k)
         for (int j = own.lo[1]; j < own.hi[1]; ++j) {
-            std::copy(from, from + n0, f.data().data() + f.index(own.lo[0], j, k));
+            int a = 0, b = n0;
+            if (written) {
+                const bool in = off[1] + j >= written->lo[1] && off[1] + j < written->hi[1] &&
+                                off[2] + k >= written->lo[2] && off[2] + k < written->hi[2];
+                a = in ? std::clamp(written->lo[0] - off[0] - own.lo[0], 0, n0) : 0;
+                b = in ? std::clamp(written->hi[0] - off[0] - own.lo[0], 0, n0) : 0;
+            }
+            if (a < b)
+                std::copy(from + a, from + b, f.data().data() + f.index(own.lo[0] + a, j, k));
             from += n0;
         }
 }

@@ -49,8 +49,11 @@ class Hdf5File {
     /// attribute "checksum" and returns it.
     std::uint64_t write_block(const std::string& name, const Field& f);
     /// Read a field's owned values; when the dataset has a "checksum" attribute (or
-    /// `require_checksum`), the values read must match it, else InputError.
-    void read_block(const std::string& name, Field& f, bool require_checksum = false);
+    /// `require_checksum`), the values read must match it, else InputError. `written` (global
+    /// cell indices, may be null): the box the dataset was written from, the only points the
+    /// checksum covers (a patch read on another rank layout may be wider than the one written).
+    void read_block(const std::string& name, Field& f, bool require_checksum = false,
+                    const Box* written = nullptr);
     /// Read back the owned values of `f`'s layout from dataset `name` and return their
     /// checksum (collective), without touching `f`.
     std::uint64_t read_checksum(const std::string& name, const Field& f);
@@ -96,9 +99,11 @@ class Hdf5File {
 
     /// Rank-count independent checksum of a field's owned values: the sum over points of a
     /// 64-bit mix of (global index, value bits), summed over ranks. A flipped bit or a
-    /// changed value changes it; so does a zeroed dataset.
+    /// changed value changes it; so does a zeroed dataset. `only` (global cell indices, may be
+    /// null): the points outside it are left out.
     static std::uint64_t block_checksum(const Decomposition& dec, const Field& f,
-                                        const std::vector<double>& owned_values);
+                                        const std::vector<double>& owned_values,
+                                        const Box* only = nullptr);
 
   private:
     void write_flat_any(const std::string& name, const Int3& global_points, const Int3& offset,

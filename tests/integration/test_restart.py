@@ -104,3 +104,29 @@ for case, extra_sets in (("taylor_green", sets), ("capsule_shear_2d", ["time.end
         check(x.shape == y.shape and rel <= bound,
               f"{case}: {k} after 1 rank then 2 ranks within {rel:.2e} of the 1-rank run's "
               f"largest value (bound {bound:g})")
+
+# A body's patch is widened where a rank would own fewer than two of its layers, and the
+# widening depends on the layout: a one-rank checkpoint continued on four ranks (x split, 16
+# cells each) reads a patch wider than it was written. Its datasets' checksums cover the
+# written box only (before session 48 such a restart was refused: "does not match its
+# checksum: the file is corrupted"). The disc is moved by 9-11 cells (h = 1/32) so that its
+# patch starts 2, 1 and 0 cells before a block boundary; the 1-cell case is widened (counted
+# from the stored boxes, and required).
+widened = []
+for shift in (9, 10, 11):
+    moving = ["time.end_time=0.3", "output.fields=false",
+              f"body[0].centre=[{0.5 + shift / 32!r}, 0.5, 0.0]"]
+    out = os.path.join(args.output, f"widen_{shift}")
+    run(args, "body_translation", out, sets=moving + ["time.max_steps=2"])
+    d = datasets(os.path.join(out, "checkpoint.h5"))
+    for body in ("disc", "cell", "capsule"):
+        lo, hi, m = int(d[f"@body_{body}_lo0"]), int(d[f"@body_{body}_hi0"]), 16
+        if hi - lo < 64 and ((lo // m + 1) * m - lo < 2 or hi - ((hi - 1) // m) * m < 2):
+            widened.append((shift, body, lo, hi))
+    run(args, "body_translation", out, ranks=4,
+        sets=moving + ["parallel.ranks=[4,1,1]", "time.max_steps=4"],
+        extra=["--restart", os.path.join(out, "checkpoint.h5")])
+    after = datasets(os.path.join(out, "checkpoint.h5"))
+    check(int(after["@step"]) == 4,
+          f"body_translation, disc moved {shift} cells: the 1-rank checkpoint continued on 4 ranks")
+check(len(widened) > 0, f"a patch was read wider than written: {widened}")
