@@ -207,6 +207,71 @@ void predictor(const VelocityField& u, const Field& p, Field& adv, const Field& 
     });
 }
 
+/// The predictor for a viscosity field mu whose transpose term is not needed (mu uniform in
+/// value, as with pinned solids of the fluid's viscosity) and for pinned solids (`pin`, may be
+/// null: K = dt chi / tau, dividing v* when the viscous term is all explicit): the expressions
+/// of SmacStepper's pointwise form (gradient_at, viscous_laplacian_at with its edge
+/// viscosities, / rho), in the same order, so the same values bit for bit, row by row.
+struct PredictorFieldCoefficients {
+    real a1, a0, dt, rho, body_force, explicit_share;
+};
+
+template <int C, int Dim>
+void predictor_viscosity_field(const VelocityField& u, const Field& p, const Field& mu, Field& adv,
+                               const Field& adv_prev, const Field* force, const Field* pin,
+                               const GlobalGrid& g, const PredictorFieldCoefficients& k_,
+                               bool wall_at_low_c, Field& ustar) {
+    const Layout L(u[C]);
+    real h2[3] = {1, 1, 1};
+    for (int e = 0; e < Dim; ++e)
+        h2[e] = g.dx(e) * g.dx(e);
+    const real hc = g.dx(C);
+    const real* uc = u[C].data().data();
+    const real* pp = p.data().data();
+    const real* m_ = mu.data().data();
+    real* a = adv.data().data();
+    const real* ap = adv_prev.data().data();
+    const real* f = force ? force->data().data() : nullptr;
+    const real* kp = pin && k_.explicit_share == 1.0 ? pin->data().data() : nullptr;
+    real* out = ustar.data().data();
+    const std::ptrdiff_t sc = L.s[C];
+    const real rho = k_.rho;
+    const bool viscous = k_.explicit_share > 0;
+    for_each_row(L.n, [&](int j, int k) {
+        const std::ptrdiff_t r = L.row(u[C], j, k);
+        const int i0 = zero_wall_faces<C>(wall_at_low_c, j, k, L.n[0], out + r);
+        if (i0 == L.n[0]) return;
+        if (f)
+            for (int i = i0; i < L.n[0]; ++i)
+                a[r + i] += f[r + i] / rho;
+        for (int i = i0; i < L.n[0]; ++i) {
+            const std::ptrdiff_t m = r + i;
+            real rate = k_.a1 * a[m] + k_.a0 * ap[m];
+            rate += (-((pp[m] - pp[m - sc]) / hc) + k_.body_force) / rho;
+            if (viscous) {
+                const real u0 = uc[m];
+                real acc = 0;
+#pragma GCC unroll 3
+                for (int e = 0; e < Dim; ++e) {
+                    const std::ptrdiff_t se = L.s[e];
+                    real w0, w1;
+                    if (e == C) {
+                        w0 = m_[m - sc] / h2[e];
+                        w1 = m_[m] / h2[e];
+                    } else {
+                        w0 = 0.25 * (m_[m] + m_[m - sc] + m_[m - se] + m_[m - sc - se]) / h2[e];
+                        w1 = 0.25 * (m_[m + se] + m_[m + se - sc] + m_[m] + m_[m - sc]) / h2[e];
+                    }
+                    acc += w0 * (uc[m - se] - u0) + w1 * (uc[m + se] - u0);
+                }
+                rate += k_.explicit_share * acc / rho;
+            }
+            out[m] = uc[m] + k_.dt * rate;
+            if (kp) out[m] /= 1.0 + kp[m];
+        }
+    });
+}
+
 /// max(m, |x_i|) over a row; exact whatever the order, so vectorised (SSE2 max on two lanes)
 /// where the compiler will not vectorise a floating-point max reduction itself. NaNs are
 /// skipped as std::max(m, x) skips them (max_pd returns its second operand, m, then).

@@ -208,6 +208,22 @@ void SmacStepper::predictor(const FlowState& s, real dt, const VelocityField* fo
         });
         return;
     }
+    if (!s.viscosity_varies) {
+        // Pinned solids in a fluid of uniform viscosity: the pointwise form below without its
+        // transpose term, as a row sweep (the same values bit for bit).
+        sweep::for_each_component(s.u.dim, [&]<int C, int Dim>() {
+            const sweep::PredictorFieldCoefficients k{
+                a1, a0, dt, rho, cfg_.body_force[C], explicit_share};
+            sweep::require_same_layout(s.u[C], ustar_[C]);
+            sweep::require_same_layout(s.u[C], s.p);
+            sweep::require_same_layout(s.u[C], s.mu);
+            if (pinning_) sweep::require_same_layout(s.u[C], (*pinning_)[C]);
+            sweep::predictor_viscosity_field<C, Dim>(
+                s.u, s.p, s.mu, adv_[C], s.adv_prev[C], force ? &(*force)[C] : nullptr,
+                pinning_ ? &(*pinning_)[C] : nullptr, g, k, wall_at_low(C), ustar_[C]);
+        });
+        return;
+    }
     for (int c = 0; c < s.u.dim; ++c)
         for_each_cell(dec_.block().cells, [&](int i, int j, int k) {
             const Int3 p{i, j, k};
