@@ -397,9 +397,15 @@ void MembraneForce::add_bending(Body& body, VelocityField& force) {
         all.lo[d] -= 2;
         all.hi[d] += 2;
     }
+    // Most cells of a patch are empty or full: their clamped value's psi is computed once
+    // (the same expression, so the same value).
+    const real psi_empty = eps * std::atanh(2 * 1e-9 - 1);
+    const real psi_full = eps * std::atanh(2 * (1 - 1e-9) - 1);
     for_each_in(all, [&](int i, int j, int k) {
         const real c = std::clamp(phi(i, j, k), 1e-9, 1 - 1e-9);
-        psi_(i, j, k) = eps * std::atanh(2 * c - 1);
+        psi_(i, j, k) = c == 1e-9       ? psi_empty
+                        : c == 1 - 1e-9 ? psi_full
+                                        : eps * std::atanh(2 * c - 1);
     });
 
     // Pass A, on the band cells (owned and one halo layer; their 3^dim stencil is in the
