@@ -30,6 +30,37 @@ constexpr real occupied_threshold = VofOptions{}.epsilon;
 /// step, and it lies inside the patch for every margin (>= 2, moves at margin / 2).
 constexpr int residue_reach = 1;
 
+/// For each owned row (j, k) of `f`, whether f is nonzero somewhere on it or on a row
+/// beside it (j +- 1, k +- 1 in 3D, halo rows included), from one cell before the row to one
+/// after: 0 where every 3 x 3 (x 3) stencil centred on the row reads zeros only.
+std::vector<char> rows_near_nonzero(const Field& f, int dim) {
+    const Box own = f.owned();
+    const int n1 = own.hi[1] - own.lo[1], n2 = own.hi[2] - own.lo[2];
+    const int r2 = dim == 3 ? 1 : 0;
+    // Rows with a halo ring: [lo1 - 1, hi1 + 1) x [lo2 - r2, hi2 + r2).
+    const int m1 = n1 + 2, m2 = n2 + 2 * r2;
+    std::vector<char> any(std::size_t(m1) * std::size_t(m2), 0);
+    for (int k = own.lo[2] - r2; k < own.hi[2] + r2; ++k)
+        for (int j = own.lo[1] - 1; j < own.hi[1] + 1; ++j) {
+            const real* row = f.data().data() + f.index(own.lo[0] - 1, j, k);
+            bool nz = false;
+            for (int i = 0; i < own.hi[0] - own.lo[0] + 2; ++i)
+                nz = nz || row[i] != 0;
+            any[std::size_t(k - own.lo[2] + r2) * std::size_t(m1) +
+                std::size_t(j - own.lo[1] + 1)] = nz;
+        }
+    std::vector<char> out(std::size_t(n1) * std::size_t(n2), 0);
+    for (int k = 0; k < n2; ++k)
+        for (int j = 0; j < n1; ++j) {
+            bool nz = false;
+            for (int dk = 0; dk <= 2 * r2; ++dk)
+                for (int dj = 0; dj <= 2; ++dj)
+                    nz = nz || any[std::size_t(k + dk) * std::size_t(m1) + std::size_t(j + dj)];
+            out[std::size_t(k) * std::size_t(n1) + std::size_t(j)] = nz;
+        }
+    return out;
+}
+
 /// Whether global index p lies within `r` cells of [lo, hi) along a direction of n cells.
 bool near_interval(int p, int lo, int hi, int n, bool periodic, int r) {
     auto in = [&](int q) { return q >= lo - r && q < hi + r; };
@@ -414,14 +445,16 @@ std::vector<BodyDiagnostics> BodySystem::measure() const {
         if (!b.patch().empty())
             for_each_in(b.phi().owned(), [&](int a, int bb, int c) {
                 const real p = b.phi()(a, bb, c);
+                lo = std::min(lo, p);
+                hi = std::max(hi, p);
+                // An empty cell adds zero to every sum below (most of a patch is empty).
+                if (p == 0) return;
                 const Real3 x = position(g, dec_.block(), Location::Cell, a, bb, c);
                 for (int k = 0; k < g.dim; ++k) {
                     const real th = two_pi * (x[k] - g.origin[k]) / g.length[k];
                     cs[k] += p * std::cos(th);
                     sn[k] += p * std::sin(th);
                 }
-                lo = std::min(lo, p);
-                hi = std::max(hi, p);
             });
         for (int k = 0; k < g.dim; ++k)
             if (dec_.periodic()[k])
@@ -430,6 +463,7 @@ std::vector<BodyDiagnostics> BodySystem::measure() const {
         if (!b.patch().empty())
             for_each_in(b.phi().owned(), [&](int a, int bb, int c) {
                 const real p = b.phi()(a, bb, c);
+                if (p == 0) return;
                 const Real3 x = image(position(g, dec_.block(), Location::Cell, a, bb, c), ref);
                 v += p;
                 for (int k = 0; k < 3; ++k)
@@ -452,8 +486,16 @@ std::vector<BodyDiagnostics> BodySystem::measure() const {
         real mxx = 0, myy = 0, mxy = 0, area = 0;
         real cv = 0, cx = 0, cy = 0, cxx = 0, cyy = 0, cxy = 0;
         const real h = g.dx(0);
+        // Rows (j, k) whose cells add zero here: phi = 0 on them and on the rows beside them
+        // (the gradient's stencil, halos included), so |grad phi| = 0 and chi = 0.
+        const std::vector<char> busy =
+            b.patch().empty() ? std::vector<char>{} : rows_near_nonzero(b.phi(), g.dim);
+        const Box own = b.phi().owned();
         if (!b.patch().empty())
-            for_each_in(b.phi().owned(), [&](int a, int bb, int c) {
+            for_each_in(own, [&](int a, int bb, int c) {
+                if (!busy[std::size_t(c - own.lo[2]) * std::size_t(own.hi[1] - own.lo[1]) +
+                          std::size_t(bb - own.lo[1])])
+                    return;
                 const real p = b.phi()(a, bb, c);
                 const Real3 x = image(position(g, dec_.block(), Location::Cell, a, bb, c), centre);
                 const real dx = x[0] - centre[0], dy = x[1] - centre[1];
