@@ -6,41 +6,20 @@ dataset of the two checkpoints and the stage times. Writes result.md beside this
     /usr/bin/python3 verification/records/blood_capillary/band_transport_s48/measure.py \
         build/bin/efsi WORKDIR        (from the repository root)
 """
-import json
 import os
 import pathlib
-import subprocess
 import sys
 
-import h5py
-import numpy as np
+sys.path.insert(0, str(pathlib.Path(__file__).resolve().parent.parent))
+from capillary_ab import largest_difference, run_capillary  # noqa: E402
 
 exe, work = sys.argv[1], pathlib.Path(sys.argv[2])
 work.mkdir(parents=True, exist_ok=True)
-env = dict(os.environ, OMPI_ALLOW_RUN_AS_ROOT="1", OMPI_ALLOW_RUN_AS_ROOT_CONFIRM="1")
 COMMON = ["output.fields=false", "output.diagnostics_every=5"]
 
 
 def run(out, ranks, sets, restart=None):
-    cmd = ([] if ranks == 1 else ["mpirun", "-np", str(ranks)])
-    cmd += [exe, "run", "cases/capillary_coarse", "-o", str(out), "-q"]
-    if restart:
-        cmd += ["--restart", str(restart)]
-    for s in COMMON + sets:
-        cmd += ["--set", s]
-    subprocess.run(cmd, check=True, env=env, capture_output=True)
-    return json.load(open(out / "summary.json"))
-
-
-def largest_difference(a, b):
-    worst = (0.0, "")
-    with h5py.File(a) as fa, h5py.File(b) as fb:
-        for k in fa.keys():
-            if isinstance(fa[k], h5py.Dataset) and fa[k].dtype.kind == "f":
-                x, y = fa[k][...], fb[k][...]
-                d = float(np.max(np.abs(x - y))) / max(1e-300, float(np.max(np.abs(x))))
-                worst = max(worst, (d, k))
-    return worst
+    return run_capillary(exe, out, COMMON + sets, restart=restart, ranks=ranks)
 
 
 start = work / "start"

@@ -13,39 +13,21 @@ OLD_EFSI: built from f6eec7e (git worktree add /tmp/wt_old f6eec7e; cmake -S /tm
 START_CHECKPOINT: a checkpoint of cases/capillary_coarse at step 10 with output.fields=false
 (band_transport_s48/measure.py makes one, WORKDIR/start).
 """
-import json
 import os
 import pathlib
-import subprocess
 import sys
 
-import h5py
-import numpy as np
+sys.path.insert(0, str(pathlib.Path(__file__).resolve().parent.parent))
+from capillary_ab import largest_difference, run_capillary  # noqa: E402
 
 old, new, start, work = sys.argv[1], sys.argv[2], sys.argv[3], pathlib.Path(sys.argv[4])
 work.mkdir(parents=True, exist_ok=True)
-env = dict(os.environ, OMPI_ALLOW_RUN_AS_ROOT="1", OMPI_ALLOW_RUN_AS_ROOT_CONFIRM="1")
 SETS = ["output.fields=false", "output.diagnostics_every=10", "time.max_steps=20"]
 
 
 def run(exe, out, ranks):
-    cmd = ([] if ranks == 1 else ["mpirun", "-np", str(ranks)])
-    cmd += [exe, "run", "cases/capillary_coarse", "-o", str(out), "-q", "--restart", start]
-    for s in SETS + (["parallel.ranks=[1,1,2]"] if ranks == 2 else []):
-        cmd += ["--set", s]
-    subprocess.run(cmd, check=True, capture_output=True, env=env)
-    return json.load(open(out / "summary.json"))
-
-
-def largest_difference(a, b):
-    worst = (0.0, "")
-    with h5py.File(a) as fa, h5py.File(b) as fb:
-        for k in fa.keys():
-            if isinstance(fa[k], h5py.Dataset) and fa[k].dtype.kind == "f":
-                x, y = fa[k][...], fb[k][...]
-                d = float(np.max(np.abs(x - y))) / max(1e-300, float(np.max(np.abs(x))))
-                worst = max(worst, (d, k))
-    return worst
+    return run_capillary(exe, out, SETS + (["parallel.ranks=[1,1,2]"] if ranks == 2 else []),
+                         restart=start, ranks=ranks)
 
 
 load_before = os.getloadavg()[0]
