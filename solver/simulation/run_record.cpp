@@ -144,6 +144,15 @@ void write_summary_json(const fs::path& file, const RunSummary& run) {
     for (const auto& [k, v] : run.stage_seconds)
         stages[k] = v;
     j["stages"] = stages;
+    if (!run.stage_spread.empty()) {
+        nlohmann::json lo, hi;
+        for (const auto& [k, v] : run.stage_spread) {
+            lo[k] = v[0];
+            hi[k] = v[1];
+        }
+        j["stages_rank_min"] = lo;
+        j["stages_rank_max"] = hi;
+    }
     j["linear_solvers"] = run.linear_solvers;
     // The bodies' named explicit limits and the limit that set the last step's dt.
     nlohmann::json limits = nlohmann::json::object();

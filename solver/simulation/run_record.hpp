@@ -15,6 +15,7 @@
 
 #include <nlohmann/json.hpp>
 
+#include <array>
 #include <filesystem>
 #include <map>
 #include <string>
@@ -52,7 +53,10 @@ struct RunSummary {
     double wall_seconds = 0;
     std::vector<double> load_before; ///< machine_load() at the start of the run
     PeakMemory memory;
-    const std::map<std::string, double>& stage_seconds;
+    const std::map<std::string, double>& stage_seconds; ///< rank 0's
+    /// Each stage's least and largest seconds over the ranks (empty on one rank, or when the
+    /// ranks could not be reduced).
+    std::map<std::string, std::array<double, 2>> stage_spread;
     std::string linear_solvers;
     const std::vector<TimeStepLimit>& body_limits; ///< the bodies' named explicit limits
     /// The adhesion's limit changes with the bonds: its smallest value over the run

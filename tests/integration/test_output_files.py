@@ -48,4 +48,12 @@ for name, (case, ranks, sets, ncells) in setups.items():
     want = "max_steps" if name == "box3d" else "completed"
     check(s["ranks"] == ranks and s["cells"] == ncells and s["status"] == want,
           f"{name}: summary ranks {s['ranks']}, cells {s['cells']}, {s['status']}")
+    # On more than one rank, each stage's least and largest time over the ranks.
+    if ranks > 1:
+        lo, hi = s.get("stages_rank_min", {}), s.get("stages_rank_max", {})
+        check(sorted(lo) == sorted(s["stages"]) == sorted(hi)
+              and all(0 <= lo[k] <= s["stages"][k] <= hi[k] for k in lo),
+              f"{name}: stages_rank_min <= stages <= stages_rank_max for {len(lo)} stages")
+    else:
+        check("stages_rank_min" not in s, f"{name}: no rank spread on one rank")
     check(os.path.exists(os.path.join(out, "case.toml")), f"{name}: resolved case echoed")
