@@ -118,6 +118,34 @@ std::vector<double> machine_load() {
     return v;
 }
 
+StageSpread stage_spread(const Decomposition& dec, const std::map<std::string, double>& mine) {
+    // One reduction: each stage's seconds and their negatives (max of -t = -min), and the
+    // count of stage names with a hash of them, so that ranks whose stages differ (none
+    // should) give no spread rather than a wrong one.
+    if (dec.size() == 1) return {};
+    std::uint64_t h = 1469598103934665603ULL;
+    for (const auto& [k, v] : mine)
+        for (const char c : k)
+            h = (h ^ std::uint64_t(static_cast<unsigned char>(c))) * 1099511628211ULL;
+    const real tag = real(h >> 12); // exact in a double
+    std::vector<real> x;
+    for (const auto& [k, v] : mine) {
+        x.push_back(v);
+        x.push_back(-v);
+    }
+    x.insert(x.end(), {real(mine.size()), -real(mine.size()), tag, -tag});
+    dec.max_in_place(x);
+    const std::size_t n = mine.size();
+    if (x[2 * n] != -x[2 * n + 1] || x[2 * n + 2] != -x[2 * n + 3]) return {};
+    StageSpread out;
+    std::size_t q = 0;
+    for (const auto& [k, v] : mine) {
+        out[k] = {-x[2 * q + 1], x[2 * q]};
+        ++q;
+    }
+    return out;
+}
+
 void write_summary_json(const fs::path& file, const RunSummary& run) {
     const Config& cfg = run.cfg;
     nlohmann::json j;

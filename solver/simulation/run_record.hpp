@@ -43,6 +43,13 @@ std::vector<double> machine_load();
 
 /// What summary.json records of a run, gathered when it ends. The machine load at the end
 /// is read when the summary is written.
+/// Each stage's least and largest seconds over the ranks.
+using StageSpread = std::map<std::string, std::array<double, 2>>;
+
+/// StageSpread of this rank's stage times `mine` (collective; empty on one rank, or when the
+/// ranks' stage names differ).
+StageSpread stage_spread(const Decomposition& dec, const std::map<std::string, double>& mine);
+
 struct RunSummary {
     const Config& cfg;
     const Decomposition& dec;
@@ -56,7 +63,7 @@ struct RunSummary {
     const std::map<std::string, double>& stage_seconds; ///< rank 0's
     /// Each stage's least and largest seconds over the ranks (empty on one rank, or when the
     /// ranks could not be reduced).
-    std::map<std::string, std::array<double, 2>> stage_spread;
+    StageSpread stage_spread;
     std::string linear_solvers;
     const std::vector<TimeStepLimit>& body_limits; ///< the bodies' named explicit limits
     /// The adhesion's limit changes with the bonds: its smallest value over the run

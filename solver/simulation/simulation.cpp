@@ -557,41 +557,12 @@ int Simulation::finish(const std::string& status, const std::string& message) {
     return 0;
 }
 
-Simulation::StageSpread Simulation::stage_spread() const {
-    // One reduction: each stage's seconds and their negatives (max of -t = -min), and the
-    // count of stage names with a hash of them, so that ranks whose stages differ (none
-    // should) give no spread rather than a wrong one.
-    const auto& mine = timers_.seconds();
-    if (dec_->size() == 1) return {};
-    std::uint64_t h = 1469598103934665603ULL;
-    for (const auto& [k, v] : mine)
-        for (const char c : k)
-            h = (h ^ std::uint64_t(static_cast<unsigned char>(c))) * 1099511628211ULL;
-    const real tag = real(h >> 12); // exact in a double
-    std::vector<real> x;
-    for (const auto& [k, v] : mine) {
-        x.push_back(v);
-        x.push_back(-v);
-    }
-    x.insert(x.end(), {real(mine.size()), -real(mine.size()), tag, -tag});
-    dec_->max_in_place(x);
-    const std::size_t n = mine.size();
-    if (x[2 * n] != -x[2 * n + 1] || x[2 * n + 2] != -x[2 * n + 3]) return {};
-    StageSpread out;
-    std::size_t q = 0;
-    for (const auto& [k, v] : mine) {
-        out[k] = {-x[2 * q + 1], x[2 * q]};
-        ++q;
-    }
-    return out;
-}
-
 void Simulation::write_summary(double wall_seconds, const std::string& status,
                                const std::string& message) const {
     // Reduced over the ranks only when every rank finished the run (docs/output.md).
     const bool all_finished = status == "completed" || status == "max_steps";
     const PeakMemory mem = peak_memory(dec_->comm(), all_finished);
-    const auto spread = all_finished ? stage_spread() : StageSpread{};
+    const auto spread = all_finished ? stage_spread(*dec_, timers_.seconds()) : StageSpread{};
     if (dec_->rank() != 0) return;
     write_summary_json(
         opt_.output_dir / "summary.json",

@@ -67,9 +67,6 @@ class Simulation {
     /// "UNSTABLE at step ..., t = ...: why; where. The last good checkpoint ..."
     std::string unstable_message(const std::string& why) const;
     /// Gathers the run's record (run_record.hpp) and writes summary.json on rank 0.
-    using StageSpread = std::map<std::string, std::array<double, 2>>;
-    /// Each stage's least and largest seconds over the ranks (collective; empty on one rank).
-    StageSpread stage_spread() const;
     void write_summary(double wall_seconds, const std::string& status,
                        const std::string& message) const;
     void log(const std::string& line) const;
