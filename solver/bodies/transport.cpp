@@ -500,21 +500,20 @@ void BodyTransport::advance(Body& body, const VelocityField& u, real dt, bool te
     SymmetricTensorField* stage = t ? &stage_ : nullptr;
     const Box& box = body.patch().local;
     // Heun's two stages: k1 = R(T^n), T1 = T^n + dt k1; T^{n+1} = T^n + dt/2 (k1 + R(T1)).
-    auto heun = [&](SymmetricTensorField* tt, const std::vector<Field*>& s,
-                    const std::vector<const Field*>& s_c, SymmetricTensorField* st,
-                    const std::vector<Field*>& s1, const std::vector<const Field*>& s1_c,
-                    const std::vector<int>& src, const RowSpans* first, const RowSpans* second) {
+    auto fill = [&](SymmetricTensorField* tt, const std::vector<Field*>& s) {
         if (tt)
             for (Field& c : tt->comp)
                 halos_.fill(c, body.patch());
         for (Field* f : s)
             halos_.fill(*f, body.patch());
+    };
+    auto heun = [&](SymmetricTensorField* tt, const std::vector<Field*>& s,
+                    const std::vector<const Field*>& s_c, SymmetricTensorField* st,
+                    const std::vector<Field*>& s1, const std::vector<const Field*>& s1_c,
+                    const std::vector<int>& src, const RowSpans* first, const RowSpans* second) {
+        fill(tt, s);
         transport_predict(box, tt, s_c, src, u, g, dt, k1_, st, s1, first);
-        if (st)
-            for (Field& c : st->comp)
-                halos_.fill(c, body.patch());
-        for (Field* f : s1)
-            halos_.fill(*f, body.patch());
+        fill(st, s1);
         transport_correct(box, st, s1_c, src, u, g, dt, k1_, tt, s, second);
     };
     if (!t || band_phi <= 0) {

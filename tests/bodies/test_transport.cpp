@@ -23,12 +23,18 @@ real wiggle(int i, int j, int k, int seed) {
            0.4 * std::sin(0.9 * k + 0.2 * i * seed) + 0.05 * seed;
 }
 
-void fill_all(Field& f, int seed) {
+/// f(i, j, k) = value(i, j, k) on every point of f, halos included.
+template <class Value>
+void fill_with(Field& f, Value&& value) {
     const Int3 b = f.begin(), h = f.halo(), n = f.cells();
     for (int k = b[2] - h[2]; k < b[2] + n[2] + h[2]; ++k)
         for (int j = b[1] - h[1]; j < b[1] + n[1] + h[1]; ++j)
             for (int i = b[0] - h[0]; i < b[0] + n[0] + h[0]; ++i)
-                f(i, j, k) = wiggle(i, j, k, seed);
+                f(i, j, k) = value(i, j, k);
+}
+
+void fill_all(Field& f, int seed) {
+    fill_with(f, [seed](int i, int j, int k) { return wiggle(i, j, k, seed); });
 }
 
 /// R(T) of the pointwise kernels at p (what the sweeps compute), component s (kappa: n).
@@ -122,13 +128,10 @@ namespace {
 /// A shell: phi = 1/2 + (0.3 - |x - c|) / 0.2 clamped, over cells of a block of n^3 (2D: n^2).
 Field shell(const Box& box, int dim, int halo) {
     Field phi = Field::on_patch("phi", Location::Cell, box.lo, box.size(), dim, halo);
-    const Int3 b = phi.begin(), h = phi.halo(), n = phi.cells();
-    for (int k = b[2] - h[2]; k < b[2] + n[2] + h[2]; ++k)
-        for (int j = b[1] - h[1]; j < b[1] + n[1] + h[1]; ++j)
-            for (int i = b[0] - h[0]; i < b[0] + n[0] + h[0]; ++i) {
-                const real r = std::hypot(i - 9.3, j - 8.1, dim == 3 ? k - 7.6 : 0.0);
-                phi(i, j, k) = std::clamp(0.5 + (5.0 - r) / 2.5, 0.0, 1.0);
-            }
+    fill_with(phi, [dim](int i, int j, int k) {
+        const real r = std::hypot(i - 9.3, j - 8.1, dim == 3 ? k - 7.6 : 0.0);
+        return std::clamp(0.5 + (5.0 - r) / 2.5, 0.0, 1.0);
+    });
     return phi;
 }
 
