@@ -341,6 +341,13 @@ Config read_config(toml::table& root, const std::filesystem::path& case_dir) {
             "viscosity (F - 1) fluid.viscosity, relaxing the viscous time-step limits of the "
             "membrane and bending forces F-fold; exact at steady state, a lag of about F dt in "
             "transients (docs/method.md); 1 = off");
+        c.time.increment_damping_on =
+            r.string("increment_damping_on", "everywhere", {"everywhere", "membranes"},
+                     "where time.increment_damping acts: the whole fluid, or only the "
+                     "membranes' bands (weight 4 phi (1 - phi) summed over the membranes, at "
+                     "most 1; the viscous solve is then hypre's)") == "membranes"
+                ? DampingRegion::Membranes
+                : DampingRegion::Everywhere;
         r.finish();
     }
     {
@@ -431,6 +438,11 @@ Config read_config(toml::table& root, const std::filesystem::path& case_dir) {
             throw InputError("time.increment_damping: needs an implicit viscous term "
                              "(time.viscous = \"crank_nicolson\" or \"backward_euler\"); "
                              "it is damping added to the implicit viscous solve");
+        if (c.time.increment_damping_on == DampingRegion::Membranes &&
+            std::none_of(c.bodies.begin(), c.bodies.end(),
+                         [](const BodyConfig& b) { return b.kind == BodyKind::Membrane; }))
+            throw InputError("time.increment_damping_on = \"membranes\": the case has no "
+                             "membrane body to confine the damping to");
         const LinearSolverChoice choice = choose_linear_solvers(c);
         if (c.viscous_solver.method == "fft" && c.time.viscous != ViscousScheme::Explicit &&
             !choice.viscous_fft)
@@ -488,6 +500,9 @@ LinearSolverChoice choose_linear_solvers(const Config& c) {
                                    "space)",
                                    b.name, b.viscosity_ratio);
     }
+    if (obstacle.empty() && c.time.increment_damping > 1 &&
+        c.time.increment_damping_on == DampingRegion::Membranes)
+        obstacle = "time.increment_damping_on = \"membranes\" (the damping varies in space)";
     const std::string& vm = c.viscous_solver.method;
     out.viscous_fft = obstacle.empty() && (vm == "auto" || vm == "fft");
     if (!obstacle.empty())

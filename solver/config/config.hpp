@@ -18,6 +18,8 @@
 namespace efsi {
 
 enum class ViscousScheme { Explicit, CrankNicolson, BackwardEuler };
+/// Where time.increment_damping acts: the whole fluid, or only the membranes' bands.
+enum class DampingRegion { Everywhere, Membranes };
 
 struct FluidConfig {
     real density = 1;   ///< rho [kg/m^3]
@@ -35,6 +37,9 @@ struct TimeConfig {
     /// viscosity (F - 1) mu_f, which relaxes the viscous time-step limits of explicit
     /// elastic forces (membrane, bending) by about F; 1 = off (SmacStepper, docs/method.md).
     real increment_damping = 1;
+    /// Everywhere, or only on the membranes' bands, weighted by 4 phi (1 - phi) summed over
+    /// the membranes (at most 1), the profile of their force density.
+    DampingRegion increment_damping_on = DampingRegion::Everywhere;
 };
 
 struct InitialConfig {

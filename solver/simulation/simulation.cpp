@@ -1,5 +1,6 @@
 #include "simulation/simulation.hpp"
 
+#include "bodies/band_damping.hpp"
 #include "bodies/rigid_fit.hpp"
 #include "core/error.hpp"
 #include "flow/initial_conditions.hpp"
@@ -140,6 +141,12 @@ Simulation::Simulation(const Config& config, const RunOptions& options, MPI_Comm
     halos_->fill(state_->u);
     stepper_ = std::make_unique<SmacStepper>(cfg_, *dec_, *halos_);
     build_pinning();
+    if (bodies_ && cfg_.time.increment_damping > 1 &&
+        cfg_.time.increment_damping_on == DampingRegion::Membranes) {
+        damping_weight_ =
+            std::make_unique<Field>("damping_weight", Location::Cell, dec_->block(), dec_->dim());
+        stepper_->set_damping_weight(damping_weight_.get());
+    }
     // Each ligand's wall (docs/method.md, "The wall takes the reaction"): a no-slip wall of
     // the domain, or a pinned solid's held faces; a ligand on neither is an input error.
     if (adhesion_) {
@@ -177,6 +184,7 @@ Simulation::~Simulation() = default;
 void Simulation::apply_body_stresses(real dt) {
     if (!bodies_) return;
     if (state_->viscosity_varies) bodies_->update_viscosity(state_->mu);
+    if (damping_weight_) membrane_damping_weight(*bodies_, *halos_, *damping_weight_);
     if (!force_) return;
     if (bodies_->adds_force())
         bodies_->add_forces(*force_); // zeroes the field first

@@ -96,6 +96,8 @@ class Simulation {
     std::vector<RigidMotion> receptor_motions_; ///< per receptor group, this step's fit
     std::unique_ptr<VelocityField> u_mid_;      ///< (v^n + v^{n+1}) / 2 that carries the bodies
     std::unique_ptr<VelocityField> pinning_;    ///< K = dt chi / tau; only with fixed walls
+    /// Where the increment damping acts (time.increment_damping_on = "membranes" only).
+    std::unique_ptr<Field> damping_weight_;
     StageTimers timers_;
     RunClock clock_;
     Diagnostics last_;

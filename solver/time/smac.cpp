@@ -256,15 +256,32 @@ SolveReport SmacStepper::viscous_solve(const FlowState& s, real dt) {
     std::array<real, 3> inv_h2{};
     for (int e = 0; e < s.u.dim; ++e)
         inv_h2[e] = 1.0 / (g.dx(e) * g.dx(e));
-    const bool reassemble = s.viscosity_varies || dt != viscous_dt_;
+    // The damping's weights: b / h^2 each (uniform), or b w / h^2 with w the weight field
+    // averaged like the viscosity (band damping, set_damping_weight).
+    const Field* w_damp = b > 0 ? damping_weight_ : nullptr;
+    auto damping_weights = [&](int c, const Int3& p) {
+        std::array<std::array<real, 2>, 3> bw{};
+        if (w_damp) {
+            bw = viscous_weights(*w_damp, g, s.u.dim, c, p);
+            for (int e = 0; e < s.u.dim; ++e)
+                for (int side = 0; side < 2; ++side)
+                    bw[e][side] *= b;
+        } else {
+            for (int e = 0; e < s.u.dim; ++e)
+                bw[e][0] = bw[e][1] = b * inv_h2[e];
+        }
+        return bw;
+    };
+    const bool reassemble = s.viscosity_varies || w_damp || dt != viscous_dt_;
     bool used_hypre = false;
     SolveReport worst;
     for (int c = 0; c < s.u.dim; ++c) {
         // Right-hand side: the predictor plus the known wall values of the ghosts (and, with
         // increment damping, -b lap_h v^n, its ghosts holding the walls at t^n). Written
         // straight into the direct solver's buffer when it solves this component.
-        FftSolver* fft =
-            (viscous_fft_[c] && !s.viscosity_varies && !pinning_) ? viscous_fft_[c].get() : nullptr;
+        FftSolver* fft = (viscous_fft_[c] && !s.viscosity_varies && !pinning_ && !w_damp)
+                             ? viscous_fft_[c].get()
+                             : nullptr;
         const Int3 n = dec_.block().cells;
         auto out_row = [&](int j, int k) { return fft ? fft->input_row(j, k) : &rhs_(0, j, k); };
         for_each_owned_row(dec_, [&](int j, int k) {
@@ -278,6 +295,15 @@ SolveReport SmacStepper::viscous_solve(const FlowState& s, real dt) {
                     const Int3 p{i, j, k};
                     if (halos_.is_fixed_wall_face(c, p[c])) continue;
                     const real uc = s.u[c](p);
+                    if (w_damp) {
+                        const auto bw = damping_weights(c, p);
+                        real lap = 0;
+                        for (int e = 0; e < s.u.dim; ++e)
+                            lap += bw[e][0] * (s.u[c](shifted(p, e, -1)) - uc) +
+                                   bw[e][1] * (s.u[c](shifted(p, e, 1)) - uc);
+                        r[i] -= lap;
+                        continue;
+                    }
                     real lap = 0;
                     for (int e = 0; e < s.u.dim; ++e)
                         lap += (s.u[c](shifted(p, e, -1)) - 2 * uc + s.u[c](shifted(p, e, 1))) *
@@ -296,11 +322,12 @@ SolveReport SmacStepper::viscous_solve(const FlowState& s, real dt) {
                                                     bc[e][side].type == BoundaryType::Wall);
             if (!next_to_wall || halos_.is_fixed_wall_face(c, p[c])) return;
             const auto w = viscous_weights(s.mu, g, s.u.dim, c, p);
+            const auto bw = damping_weights(c, p);
             for (int e = 0; e < s.u.dim; ++e)
                 for (int side = 0; side < 2; ++side)
                     if (e != c && on_box_face(dec_, bc, e, side, p) &&
                         bc[e][side].type == BoundaryType::Wall)
-                        r += 2 * (a * w[e][side] + b * inv_h2[e]) *
+                        r += 2 * (a * w[e][side] + bw[e][side]) *
                              bc[e][side].velocity_at(c, halos_.time());
         };
         auto wall_plane = [&](int e, int index) {
@@ -340,11 +367,12 @@ SolveReport SmacStepper::viscous_solve(const FlowState& s, real dt) {
                     return st;
                 }
                 const auto w = viscous_weights(s.mu, g, s.u.dim, c, p);
+                const auto bw = damping_weights(c, p);
                 // Identity plus the implicit penalisation K = dt chi / tau of pinned solids.
                 st.centre = 1 + (pinning_ ? (*pinning_)[c](p) : 0.0);
                 for (int e = 0; e < s.u.dim; ++e)
                     for (int side = 0; side < 2; ++side) {
-                        const real aw = a * w[e][side] + b * inv_h2[e];
+                        const real aw = a * w[e][side] + bw[e][side];
                         st.centre += aw;
                         st.neighbour[e][side] = -aw;
                         if (e == c) {

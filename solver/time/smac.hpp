@@ -13,6 +13,8 @@
 // density of bodies (elastic, membrane), is extrapolated with the advection. b = dt (D - 1)
 // mu_f / rho damps the velocity increment (D = time.increment_damping, 1 = off: b = 0 and
 // no work); it vanishes at steady state and relaxes the explicit membrane limits D-fold.
+// With time.increment_damping_on = "membranes" the damping is confined to the membranes'
+// bands: b lap becomes b div(w grad), w in [0, 1] a cell field (set_damping_weight).
 //
 // Pinned solids add the Brinkman penalisation -(chi / tau) v (chi their volume fraction on
 // the faces), implicit: the viscous solve becomes (I + K - theta dt Lmu / rho) v* = ...
@@ -52,6 +54,10 @@ class SmacStepper {
     /// Penalise pinned solids: `k` holds K = dt chi / tau on the faces (dimensionless, as
     /// tau is a fixed multiple of dt); null (the default) adds no term and no work.
     void set_pinning(const VelocityField* k) { pinning_ = k; }
+    /// Confine the increment damping to where the cell field `w` (in [0, 1], halos filled)
+    /// is non-zero: the damping's Laplacian becomes div(w grad), weighted like the
+    /// viscous term's mu. Null (the default): the damping is uniform.
+    void set_damping_weight(const Field* w) { damping_weight_ = w; }
 
     /// Which solver runs for the pressure and the viscous solves, and why (for the log).
     std::string solver_summary() const;
@@ -82,6 +88,7 @@ class SmacStepper {
     std::array<std::unique_ptr<FftSolver>, 3> viscous_fft_;
     real viscous_dt_ = -1;                   ///< dt the hypre viscous operators were assembled for
     const VelocityField* pinning_ = nullptr; ///< K = dt chi / tau of pinned solids
+    const Field* damping_weight_ = nullptr;  ///< where the increment damping acts (null: all)
 };
 
 } // namespace efsi

@@ -230,3 +230,28 @@ semi_axes = [1.0, 0.6, 1.0]
     EXPECT_NEAR(f[1], 1.5 / std::sqrt(2.0), 1e-14);
     EXPECT_NEAR(f[2], 0.25, 1e-14);
 }
+
+TEST(BodyConfig, IncrementDampingOnMembranesNeedsAMembraneAndHypre) {
+    // Confined to the membranes' bands the damping varies in space: the viscous solve is
+    // hypre's, and the reason names the key; a case without a membrane is refused.
+    const Overrides band{{"time.increment_damping", "4.0"},
+                         {"time.increment_damping_on", "\"membranes\""}};
+    const Config c = case_from(membrane(""), band);
+    EXPECT_EQ(c.time.increment_damping_on, DampingRegion::Membranes);
+    const LinearSolverChoice choice = choose_linear_solvers(c);
+    EXPECT_FALSE(choice.viscous_fft);
+    EXPECT_NE(choice.viscous_reason.find("increment_damping_on"), std::string::npos);
+    // Undamped (F = 1) there is nothing to confine: the FFT solve stays.
+    EXPECT_TRUE(choose_linear_solvers(
+                    case_from(membrane(""), {{"time.increment_damping_on", "\"membranes\""}}))
+                    .viscous_fft);
+    EXPECT_EQ(case_from(membrane("")).time.increment_damping_on, DampingRegion::Everywhere);
+    std::string msg;
+    try {
+        case_from(box, band);
+    } catch (const InputError& e) {
+        msg = e.what();
+    }
+    EXPECT_NE(msg.find("time.increment_damping_on"), std::string::npos);
+    EXPECT_NE(msg.find("no membrane"), std::string::npos);
+}
