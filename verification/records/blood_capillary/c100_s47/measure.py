@@ -71,25 +71,30 @@ def worst_overlap(out: Path, t_max: float):
     return max(overlap(p, w) for p in snaps), len(snaps)
 
 
-c100, c10_2, c10_1 = (Path(a) for a in sys.argv[1:4])
-a = measure(c100, np.inf)
-t = a["t reached [ms]"]
-b = measure(c10_1, t)
-cost = measure(c10_2, np.inf)  # the case on 2 ranks (to 0.5 ms): its cost and rank count
-for k in ("ranks", "seconds per ms (the last leg's seconds per step)"):
-    b[k] = cost[k]
-ov_a, na = worst_overlap(c100, t)
-ov_b, nb = worst_overlap(c10_1, t)
-fmt = lambda v: v if isinstance(v, str) else (f"{v:.4g}" if isinstance(v, float) else str(v))
-lines = ["# capillary_coarse with C = 100 red cells (session 47)", "",
-         "Made by `measure.py` (this folder). The C = 10 column is the case as it is, from the "
-         "blood_capillary study's full-tier runs up to the same time: `cells` (1 rank, field "
-         "snapshots), but for the ranks and the cost, which are those of `cells_2ranks` (2 "
-         "ranks, to 0.5 ms).", "",
-         "| quantity | C = 100 | C = 10 (the case) |", "|---|---|---|"]
-for k in a:
-    lines.append(f"| {k} | {fmt(a[k])} | {fmt(b[k])} |")
-lines.append(f"| largest overlap of two bodies (sharp red cells), snapshots to t | "
-             f"{ov_a:.3g} ({na} snapshots) | {ov_b:.3g} ({nb} snapshots) |")
-(HERE / "result.md").write_text("\n".join(lines) + "\n")
-print("\n".join(lines))
+def main():
+    c100, c10_2, c10_1 = (Path(a) for a in sys.argv[1:4])
+    a = measure(c100, np.inf)
+    t = a["t reached [ms]"]
+    b = measure(c10_1, t)
+    cost = measure(c10_2, np.inf)  # the case on 2 ranks (to 0.5 ms): its cost and rank count
+    for k in ("ranks", "seconds per ms (the last leg's seconds per step)"):
+        b[k] = cost[k]
+    ov_a, na = worst_overlap(c100, t)
+    ov_b, nb = worst_overlap(c10_1, t)
+    fmt = lambda v: v if isinstance(v, str) else (f"{v:.4g}" if isinstance(v, float) else str(v))
+    lines = ["# capillary_coarse with C = 100 red cells (session 47)", "",
+             "Made by `measure.py` (this folder). The C = 10 column is the case as it is, from the "
+             "blood_capillary study's full-tier runs up to the same time: `cells` (1 rank, field "
+             "snapshots), but for the ranks and the cost, which are those of `cells_2ranks` (2 "
+             "ranks, to 0.5 ms).", "",
+             "| quantity | C = 100 | C = 10 (the case) |", "|---|---|---|"]
+    for k in a:
+        lines.append(f"| {k} | {fmt(a[k])} | {fmt(b[k])} |")
+    lines.append(f"| largest overlap of two bodies (sharp red cells), snapshots to t | "
+                 f"{ov_a:.3g} ({na} snapshots) | {ov_b:.3g} ({nb} snapshots) |")
+    (HERE / "result.md").write_text("\n".join(lines) + "\n")
+    print("\n".join(lines))
+
+
+if __name__ == "__main__":
+    main()

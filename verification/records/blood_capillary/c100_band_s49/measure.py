@@ -1,0 +1,77 @@
+"""capillary_coarse with stiff-area red cells (Skalak C = 100) and the increment damping
+confined to the membranes' bands (time.increment_damping = 9, increment_damping_on =
+"membranes"), against the same scene without it (the session-47 run of record c100_s47),
+both on 2 ranks to 1 ms. F = 9 relaxes the red cells' membrane limit (6.84e-4 ms at cfl 0.5)
+past the platelets' elastic limit (6e-3 ms), which then sets the step. Per run: c100_s47's
+measures (steps, time step, seconds per ms, the red cells' stored-strain drift, area change,
+reference-area change, max tr Gs, volume drift, the largest overlap of two bodies over the
+snapshots), and at each field snapshot the flow rate and the cell-free layer (the
+blood_capillary study's definitions, one snapshot each). Writes result.md beside this file.
+
+    /usr/bin/python3 verification/records/blood_capillary/c100_band_s49/measure.py \
+        build/runs/cap_C100 build/runs/cap_C100_band9
+
+where the two runs were made by (2 ranks; the first in two legs of 0.5 ms, c100_s47)
+    mpirun -np 2 build/bin/efsi run cases/capillary_coarse -o build/runs/cap_C100 \
+        --set 'seeding.kind[1].body.area_dilation=100' --set time.end_time=1
+    mpirun -np 2 build/bin/efsi run cases/capillary_coarse -o build/runs/cap_C100_band9 \
+        --set 'seeding.kind[1].body.area_dilation=100' --set time.end_time=1 \
+        --set time.increment_damping=9 --set 'time.increment_damping_on="membranes"'
+"""
+import json
+import sys
+from pathlib import Path
+
+import numpy as np
+
+HERE = Path(__file__).resolve().parent
+sys.path.insert(0, str(HERE.parents[2] / "studies"))
+sys.path.insert(0, str(HERE.parent / "c100_s47"))
+from blood_capillary import (R_LUMEN, flow_rate, rbc_edge_radii, snapshot_time,  # noqa: E402
+                             snapshots)
+from measure import measure, worst_overlap  # noqa: E402 (c100_s47's)
+
+
+def per_snapshot(out: Path, h: float) -> dict:
+    """{t: (flow rate [um^3/ms], cell-free layer [um])} at each field snapshot after t = 0."""
+    rows = {}
+    for p in snapshots(out):
+        t = snapshot_time(p)
+        if t > 0:
+            edges = rbc_edge_radii(p, h)
+            rows[round(t, 6)] = (flow_rate(p, h), R_LUMEN - float(np.mean(edges)))
+    return rows
+
+
+def main():
+    plain, band = Path(sys.argv[1]), Path(sys.argv[2])
+    h = 22.0 / 64
+    a, b = measure(plain, np.inf), measure(band, np.inf)
+    ov = [worst_overlap(o, min(a["t reached [ms]"], b["t reached [ms]"])) for o in (plain, band)]
+    sa, sb = per_snapshot(plain, h), per_snapshot(band, h)
+    load = json.loads((band / "summary.json").read_text()).get("load_before", ["-"])
+    fmt = lambda v: v if isinstance(v, str) else (f"{v:.4g}" if isinstance(v, float) else str(v))
+    lines = ["# C = 100 red cells with the increment damping on their bands (session 49)", "",
+             "Made by `measure.py` (this folder). capillary_coarse with "
+             "`seeding.kind[1].body.area_dilation = 100`, 2 ranks, to 1 ms: without damping "
+             "(the run of record c100_s47) and with `time.increment_damping = 9`, "
+             "`time.increment_damping_on = \"membranes\"`. 1-minute load before the damped "
+             f"run: {load[0]}.", "",
+             "| quantity | C = 100 | C = 100, band damping F = 9 |", "|---|---|---|"]
+    for k in a:
+        lines.append(f"| {k} | {fmt(a[k])} | {fmt(b[k])} |")
+    lines.append(f"| largest overlap of two bodies (sharp red cells), snapshots | "
+                 f"{ov[0][0]:.3g} ({ov[0][1]} snapshots) | {ov[1][0]:.3g} ({ov[1][1]} snapshots) |")
+    lines += ["", "| t [ms] | flow rate [um^3/ms] | with damping | relative difference | "
+              "cell-free layer [um] | with damping |", "|---|---|---|---|---|---|"]
+    for t in sorted(set(sa) & set(sb)):
+        qa, ca = sa[t]
+        qb, cb = sb[t]
+        lines.append(f"| {t:g} | {qa:.2f} | {qb:.2f} | {qb / qa - 1:+.2e} | {ca:.3f} | "
+                     f"{cb:.3f} |")
+    (HERE / "result.md").write_text("\n".join(lines) + "\n")
+    print("\n".join(lines))
+
+
+if __name__ == "__main__":
+    main()
