@@ -9,7 +9,8 @@ snapshots), and at each field snapshot the flow rate and the cell-free layer (th
 blood_capillary study's definitions, one snapshot each). Writes result.md beside this file.
 
     /usr/bin/python3 verification/records/blood_capillary/c100_band_s49/measure.py \
-        build/runs/cap_C100 build/runs/cap_C100_band9
+        build/runs/cap_C100 build/runs/cap_C100_band9 build/runs/cap_C100_band9_t3 \
+        build/runs/c100cont_plain build/runs/c100cont_band4 build/runs/c100cont_band9
 
 where the two runs were made by (2 ranks; the first in two legs of 0.5 ms, c100_s47)
     mpirun -np 2 build/bin/efsi run cases/capillary_coarse -o build/runs/cap_C100 \
@@ -17,7 +18,14 @@ where the two runs were made by (2 ranks; the first in two legs of 0.5 ms, c100_
     mpirun -np 2 build/bin/efsi run cases/capillary_coarse -o build/runs/cap_C100_band9 \
         --set 'seeding.kind[1].body.area_dilation=100' --set time.end_time=1 \
         --set time.increment_damping=9 --set 'time.increment_damping_on="membranes"'
+cap_C100_band9_t3 continues the second from its checkpoint to 3 ms (--restart, end_time 3);
+the c100cont_* runs continue the FIRST (undamped) run from its 1 ms checkpoint with
+output.fields = false, output.diagnostics_every = 5 and time.increment_damping = 1 (plain,
+to 1.3 ms), 4.5 (band4, to 1.6 ms) and 9 (band9, to 1.6 ms), increment_damping_on =
+"membranes": the same state, three dampings. The second table gives, per interval, the
+largest speed (diagnostics.csv) and the largest tr Gs over the red cells (bodies.csv).
 """
+import csv
 import json
 import sys
 from pathlib import Path
@@ -41,6 +49,22 @@ def per_snapshot(out: Path, h: float) -> dict:
             edges = rbc_edge_radii(p, h)
             rows[round(t, 6)] = (flow_rate(p, h), R_LUMEN - float(np.mean(edges)))
     return rows
+
+
+def growth(out: Path, edges) -> list:
+    """Per interval (a, b] of `edges`: (largest speed, largest tr Gs over the red cells), or
+    None past the run's end."""
+    with open(out / "diagnostics.csv") as f:
+        d = [(float(r["time"]), float(r["max_speed"])) for r in csv.DictReader(f)]
+    with open(out / "bodies.csv") as f:
+        b = [(float(r["time"]), float(r["tensor_trace_max"])) for r in csv.DictReader(f)
+             if r["body"].startswith("rbc")]
+    cells = []
+    for a, e in zip(edges[:-1], edges[1:]):
+        v = [x for t, x in d if a < t <= e + 1e-9]
+        g = [x for t, x in b if a < t <= e + 1e-9]
+        cells.append((max(v), max(g)) if v and g and max(t for t, _ in d) >= e - 1e-9 else None)
+    return cells
 
 
 def main():
@@ -69,6 +93,30 @@ def main():
         qb, cb = sb[t]
         lines.append(f"| {t:g} | {qa:.2f} | {qb:.2f} | {qb / qa - 1:+.2e} | {ca:.3f} | "
                      f"{cb:.3f} |")
+    if len(sys.argv) > 3:
+        t3 = Path(sys.argv[3])
+        edges = [0.0, 1.0, 2.0, 2.8, 3.0]
+        lines += ["", "The damped run continued to 3 ms (largest speed [um/ms] / max tr Gs over "
+                  "the red cells, per interval; the flow's own speed is about 8 um/ms):", "",
+                  "| run | " + " | ".join(f"({a:g}, {e:g}] ms" for a, e in
+                                          zip(edges[:-1], edges[1:])) + " |",
+                  "|---|" + "---|" * (len(edges) - 1)]
+        lines.append(f"| {t3.name} | " + " | ".join(
+            "-" if c is None else f"{c[0]:.1f} / {c[1]:.2f}" for c in growth(t3, edges)) + " |")
+        edges = [1.0, 1.1, 1.2, 1.3, 1.45, 1.6]
+        lines += ["", "From the undamped run's 1 ms state (largest speed [um/ms] / max tr Gs over "
+                  "the red cells, per interval):", "",
+                  "| run | F | " + " | ".join(f"({a:g}, {e:g}] ms" for a, e in
+                                              zip(edges[:-1], edges[1:])) + " |",
+                  "|---|---|" + "---|" * (len(edges) - 1)]
+        for arg in sys.argv[4:]:
+            out = Path(arg)
+            case = (out / "case.toml").read_text()
+            F = next((ln.split("=")[1].strip() for ln in case.splitlines()
+                      if ln.startswith("increment_damping =")), "1")
+            lines.append(f"| {out.name} | {F} | " + " | ".join(
+                "-" if c is None else f"{c[0]:.1f} / {c[1]:.2f}" for c in growth(out, edges)) +
+                " |")
     (HERE / "result.md").write_text("\n".join(lines) + "\n")
     print("\n".join(lines))
 
