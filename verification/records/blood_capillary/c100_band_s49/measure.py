@@ -22,8 +22,16 @@ cap_C100_band9_t3 continues the second from its checkpoint to 3 ms (--restart, e
 the c100cont_* runs continue the FIRST (undamped) run from its 1 ms checkpoint with
 output.fields = false, output.diagnostics_every = 5 and time.increment_damping = 1 (plain,
 to 1.3 ms), 4.5 (band4, to 1.6 ms) and 9 (band9, to 1.6 ms), increment_damping_on =
-"membranes": the same state, three dampings. The second table gives, per interval, the
+"membranes": the same state, three dampings. c100cont_flow9 is band9 with the damping
+applied to v* - (v^n + dt A^n), v^n carried one step by its own advection (a key
+time.increment_damping_frame = "flow" of an uncommitted binary, 1de4f18 plus
+that change, tried and not kept: docs/method.md). The second table gives, per interval, the
 largest speed (diagnostics.csv) and the largest tr Gs over the red cells (bodies.csv).
+
+    /usr/bin/python3 verification/records/blood_capillary/c100_band_s49/measure.py \
+        build/runs/cap_C100 build/runs/cap_C100_band9 build/runs/cap_C100_band9_t3 \
+        build/runs/c100cont_plain build/runs/c100cont_band4 build/runs/c100cont_band9 \
+        build/runs/c100cont_flow9
 """
 import csv
 import json
@@ -106,15 +114,17 @@ def main():
         edges = [1.0, 1.1, 1.2, 1.3, 1.45, 1.6]
         lines += ["", "From the undamped run's 1 ms state (largest speed [um/ms] / max tr Gs over "
                   "the red cells, per interval):", "",
-                  "| run | F | " + " | ".join(f"({a:g}, {e:g}] ms" for a, e in
+                  "| run | F | damped increment | " + " | ".join(f"({a:g}, {e:g}] ms" for a, e in
                                               zip(edges[:-1], edges[1:])) + " |",
-                  "|---|---|" + "---|" * (len(edges) - 1)]
+                  "|---|---|---|" + "---|" * (len(edges) - 1)]
         for arg in sys.argv[4:]:
             out = Path(arg)
             case = (out / "case.toml").read_text()
             F = next((ln.split("=")[1].strip() for ln in case.splitlines()
                       if ln.startswith("increment_damping =")), "1")
-            lines.append(f"| {out.name} | {F} | " + " | ".join(
+            frame = ("v* - (v^n + dt A^n)" if "increment_damping_frame = 'flow'" in case
+                     else "v* - v^n")
+            lines.append(f"| {out.name} | {F} | {frame if F != '1' else '-'} | " + " | ".join(
                 "-" if c is None else f"{c[0]:.1f} / {c[1]:.2f}" for c in growth(out, edges)) +
                 " |")
     (HERE / "result.md").write_text("\n".join(lines) + "\n")
