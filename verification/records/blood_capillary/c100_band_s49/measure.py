@@ -21,7 +21,8 @@ where the two runs were made by (2 ranks; the first in two legs of 0.5 ms, c100_
 cap_C100_band9_t3 continues the second from its checkpoint to 3 ms (--restart, end_time 3);
 the c100cont_* runs continue the FIRST (undamped) run from its 1 ms checkpoint with
 output.fields = false, output.diagnostics_every = 5 and time.increment_damping = 1 (plain,
-to 1.3 ms), 4.5 (band4, to 1.6 ms) and 9 (band9, to 1.6 ms), increment_damping_on =
+to 1.3 ms, then continued from its checkpoint to 1.6 ms), 4.5 (band4, to 1.6 ms) and 9
+(band9, to 1.6 ms), increment_damping_on =
 "membranes": the same state, three dampings. c100cont_flow9 is band9 with the damping
 applied to v* - (v^n + dt A^n), v^n carried one step by its own advection (a key
 time.increment_damping_frame = "flow" of an uncommitted binary, 1de4f18 plus
