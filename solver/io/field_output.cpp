@@ -149,10 +149,15 @@ void FieldOutput::write(const FlowState& s, const std::vector<const Body*>& bodi
         mesh_needed_ = false;
     }
     std::vector<std::string> extra;
-    std::uint64_t per_cell = 1 + 3 + std::uint64_t(s.u.dim); // pressure, velocity, faces
+    // The flow's fields cover the grid; a body's, its patch: stored in deflated chunks
+    // (io/hdf5_file.cpp), the zeros around it take almost nothing and its values do not
+    // shrink, so a snapshot's size follows the patches (10 bytes per patch value: the
+    // values, the chunks' zeros and their index).
+    std::uint64_t bytes = (1 + 3 + std::uint64_t(s.u.dim)) * std::uint64_t(g.total_cells()) * 8;
     for (const Body* body : bodies)
-        per_cell += 1 + body->tensor().comp.size() + (body->reference_curvature() ? 1 : 0);
-    write_h5(dec_, dir_ / name, per_cell * std::uint64_t(g.total_cells()) * 8, [&](Hdf5File& f) {
+        bytes += (1 + body->tensor().comp.size() + (body->reference_curvature() ? 1 : 0)) *
+                 std::uint64_t(std::max<std::int64_t>(0, body->patch().global.count())) * 10;
+    write_h5(dec_, dir_ / name, bytes, [&](Hdf5File& f) {
         std::vector<double> p, vel;
         for_each_cell(b.cells, [&](int i, int j, int k) {
             p.push_back(s.p(i, j, k));

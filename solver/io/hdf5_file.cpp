@@ -8,6 +8,7 @@
 #include <unistd.h>
 
 #include <algorithm>
+#include <array>
 #include <cerrno>
 #include <cstring>
 
@@ -27,28 +28,49 @@ herr_t write_scalar_attribute(hid_t owner, const char* name, hid_t type, const v
     return w;
 }
 
-/// Dataset creation properties that write zeros where no rank writes (parallel HDF5 leaves
-/// such regions undefined otherwise): a body's fields cover only its patch.
-class ZeroFill {
+/// How a dataset is laid out in the file.
+enum class Storage {
+    Whole,      ///< every point is written: contiguous, no fill (a fill would write it twice)
+    ZeroFilled, ///< written in part: contiguous, zeros written at allocation
+    Chunked,    ///< written in part: deflated chunks, zero the fill value
+};
+
+/// Dataset creation properties for `storage`. Parallel HDF5 leaves regions that no rank
+/// writes undefined, so a dataset written in part (a body's fields: its patch) needs zeros
+/// there. Contiguous, they are written out: the file holds every body's fields on the whole
+/// grid (capillary_coarse: 1.1 GB per file). In chunks of `chunk` points, deflated (level 1),
+/// a chunk of zeros takes a few bytes, so the file holds the patches (0.1 GB); HDF5 1.10
+/// then reads, merges and deflates again every chunk a patch covers in part, which costs
+/// more than it saves where the file is also read back (the checkpoint): only the
+/// snapshots use it.
+class Creation {
   public:
-    explicit ZeroFill(hid_t type) : plist_(H5Pcreate(H5P_DATASET_CREATE)) {
+    Creation(hid_t type, Storage storage, int rank, const hsize_t* chunk)
+        : plist_(H5Pcreate(H5P_DATASET_CREATE)) {
+        if (storage == Storage::Whole) {
+            H5Pset_fill_time(plist_, H5D_FILL_TIME_NEVER);
+            return;
+        }
         const double zero_d = 0;
         const std::int64_t zero_i = 0;
         H5Pset_fill_value(plist_, type,
                           type == H5T_NATIVE_DOUBLE ? static_cast<const void*>(&zero_d)
                                                     : static_cast<const void*>(&zero_i));
+        if (storage == Storage::Chunked) {
+            H5Pset_chunk(plist_, rank, chunk);
+            H5Pset_deflate(plist_, 1);
+        }
         H5Pset_fill_time(plist_, H5D_FILL_TIME_ALLOC);
         H5Pset_alloc_time(plist_, H5D_ALLOC_TIME_EARLY);
     }
-    ~ZeroFill() { H5Pclose(plist_); }
+    ~Creation() { H5Pclose(plist_); }
+    Creation(const Creation&) = delete;
+    Creation& operator=(const Creation&) = delete;
     operator hid_t() const { return plist_; }
 
   private:
     hid_t plist_;
 };
-ZeroFill zero_fill(hid_t type) {
-    return ZeroFill(type);
-}
 
 /// A fixed-length string type of n bytes (n >= 1).
 hid_t string_type(std::size_t n) {
@@ -154,9 +176,13 @@ void Hdf5File::write_flat_any(const std::string& name, const Int3& n, const Int3
     const int rank = ncomp > 1 ? 2 : 1;
     const hsize_t dims[2] = {total, hsize_t(ncomp)};
     hid_t fspace = H5Screate_simple(rank, dims, nullptr);
+    const std::int64_t written = std::int64_t(c[0]) * c[1] * c[2];
+    const bool whole = dec_.sum(written) >= std::int64_t(total);
+    // Chunks of 4096 points with all their components (at most the dataset).
+    const hsize_t chunk[2] = {std::min<hsize_t>(total, 4096), hsize_t(ncomp)};
+    const Creation dcpl(type, whole ? Storage::Whole : Storage::Chunked, rank, chunk);
     errno = 0;
-    hid_t dset =
-        H5Dcreate2(file_, name.c_str(), type, fspace, H5P_DEFAULT, zero_fill(type), H5P_DEFAULT);
+    hid_t dset = H5Dcreate2(file_, name.c_str(), type, fspace, H5P_DEFAULT, dcpl, H5P_DEFAULT);
     try {
         agree(dset >= 0, fmt::format("creating dataset '{}'", name));
     } catch (...) {
@@ -245,9 +271,13 @@ std::uint64_t Hdf5File::write_block(const std::string& name, const Field& f) {
     BoxSpace s(dec_, f);
     std::vector<double>& buf = scratch_;
     gather_owned(f, buf);
+    const GlobalGrid& g = dec_.grid();
+    const bool whole = dec_.sum(std::int64_t(buf.size())) == g.total_cells();
+    const Creation dcpl(H5T_NATIVE_DOUBLE, whole ? Storage::Whole : Storage::ZeroFilled, 3,
+                        nullptr);
     errno = 0;
-    hid_t dset = H5Dcreate2(file_, name.c_str(), H5T_NATIVE_DOUBLE, s.fspace, H5P_DEFAULT,
-                            zero_fill(H5T_NATIVE_DOUBLE), H5P_DEFAULT);
+    hid_t dset = H5Dcreate2(file_, name.c_str(), H5T_NATIVE_DOUBLE, s.fspace, H5P_DEFAULT, dcpl,
+                            H5P_DEFAULT);
     try {
         agree(dset >= 0, fmt::format("creating dataset '{}'", name));
     } catch (...) {

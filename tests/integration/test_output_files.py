@@ -57,3 +57,37 @@ for name, (case, ranks, sets, ncells) in setups.items():
     else:
         check("stages_rank_min" not in s, f"{name}: no rank spread on one rank")
     check(os.path.exists(os.path.join(out, "case.toml")), f"{name}: resolved case echoed")
+
+# A body's fields in a snapshot: stored in deflated chunks (io/hdf5_file.cpp), so the file
+# holds the patch and not the grid, with the same values as the checkpoint's (contiguous)
+# copy and zeros outside the patch; the flow's fields stay contiguous.
+import h5py  # noqa: E402
+import numpy as np  # noqa: E402
+
+out = os.path.join(args.output, "capsule3d")
+run(args, "capsule_shear", out, ranks=2,
+    sets=["grid.cells=[32, 32, 32]", "grid.length=[8.0, 8.0, 8.0]", "grid.origin=[-4.0, -4.0, -4.0]",
+          "time.end_time=0.05", "output.fields_interval=0.05"])
+snaps = sorted(f for f in os.listdir(os.path.join(out, "fields")) if f.startswith("fields_0"))
+last = os.path.join(out, "fields", snaps[-1])
+with h5py.File(last, "r") as f, h5py.File(os.path.join(out, "checkpoint.h5"), "r") as c:
+    check(abs(float(f.attrs["time"]) - float(c.attrs["time"])) < 1e-12,
+          f"capsule3d: the last snapshot ({snaps[-1]}) is at the checkpoint's time")
+    phi = f["phi_capsule"]
+    check(phi.chunks is not None and phi.compression == "gzip",
+          f"capsule3d: phi_capsule stored in deflated chunks ({phi.chunks}, {phi.compression})")
+    check(f["pressure"].chunks is None and f["velocity"].chunks is None,
+          "capsule3d: the flow's fields are contiguous")
+    stored = c["body_capsule_phi"][...]
+    check(np.array_equal(phi[...].reshape(stored.shape), stored),
+          "capsule3d: the snapshot's phi equals the checkpoint's, zeros outside the patch "
+          "included")
+    inside = int(np.count_nonzero(stored))
+    check(0 < inside < stored.size // 2, f"capsule3d: the patch holds {inside} of "
+          f"{stored.size} cells (a test of the zeros around it)")
+    body = [k for k in f.keys() if k.startswith("phi_") or k.startswith("capsule_")]
+    grid_bytes = sum(f[k].size * 8 for k in f.keys())
+    size = os.path.getsize(last)
+    check(len(body) >= 7 and size < 0.75 * grid_bytes,
+          f"capsule3d: snapshot of {size} bytes against {grid_bytes} for {len(f.keys())} "
+          f"datasets on the grid ({len(body)} of the body)")
