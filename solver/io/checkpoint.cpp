@@ -25,7 +25,10 @@ std::string history_name(int c) {
 
 /// Version of the checkpoint layout: 2 = per-dataset checksums, case fingerprint and the
 /// checksum of the scalar attributes.
-constexpr double format_version = 2;
+// 3 (session 50): a body's datasets hold its stored patch box (attribute "box_lo"), not the
+// whole grid; format 2 files (whole-grid datasets) are read as before.
+constexpr double format_version = 3;
+constexpr double oldest_format = 2;
 
 /// Every dataset of a checkpoint with the field it is written from / read into.
 std::vector<std::pair<std::string, Field*>> datasets(const FlowState& cs,
@@ -151,8 +154,28 @@ void write_checkpoint(const fs::path& file, const Decomposition& dec, const Flow
     try {
         {
             const auto all = datasets(s, bodies);
-            std::uint64_t bytes =
-                std::uint64_t(all.size()) * std::uint64_t(dec.grid().total_cells()) * 8;
+            // The flow's fields cover the grid; a body's, its patch box (the dataset holds
+            // that box only), so the file's size follows the patches.
+            std::map<const Field*, const Box*> box_of;
+            for (Body* b : bodies) {
+                const Box* box = &b->patch().global;
+                box_of[&b->phi()] = box;
+                for (const Field& c : b->tensor().comp)
+                    box_of[&c] = box;
+                if (const Field* kr = b->reference_curvature()) box_of[kr] = box;
+                for (const Field& c : b->reference_map())
+                    box_of[&c] = box;
+            }
+            auto box_for = [&](const Field* field) -> const Box* {
+                const auto it = box_of.find(field);
+                return it == box_of.end() ? nullptr : it->second;
+            };
+            std::uint64_t bytes = 0;
+            for (const auto& [name, field] : all) {
+                const Box* box = box_for(field);
+                bytes += 8 * std::uint64_t(box ? std::max<std::int64_t>(0, box->count())
+                                               : dec.grid().total_cells());
+            }
             for (const auto& [group, r] : records) {
                 for (const auto& [name, v] : r->reals)
                     bytes += 8 * v.size();
@@ -161,7 +184,7 @@ void write_checkpoint(const fs::path& file, const Decomposition& dec, const Flow
             }
             Hdf5File f(tmp, Hdf5File::Mode::Create, dec, bytes);
             for (const auto& [name, field] : all)
-                sums.emplace_back(name, f.write_block(name, *field));
+                sums.emplace_back(name, f.write_block(name, *field, box_for(field)));
             for (const auto& [group, r] : records) {
                 for (const auto& [name, v] : r->reals)
                     sums.emplace_back(group + "/" + name, f.write_array(group + "/" + name, v));
@@ -266,9 +289,9 @@ void read_checkpoint(const fs::path& file, const Decomposition& dec, FlowState& 
         if (!f.has_attribute("format") || !f.has_string_attribute("case_fingerprint", "integrity"))
             throw InputError(at + ": not a checkpoint with checksums (written by an efsi "
                                   "older than checkpoint format 2, or not a checkpoint)");
-        if (f.read_attribute("format") != format_version)
-            throw InputError(fmt::format("{}: checkpoint format {} is not {}", at,
-                                         f.read_attribute("format"), format_version));
+        if (const double v = f.read_attribute("format"); v != format_version && v != oldest_format)
+            throw InputError(fmt::format("{}: checkpoint format {} is neither {} nor {}", at, v,
+                                         oldest_format, format_version));
         check_records(f, at, records);
         const std::string stored = f.read_string_attribute("case_fingerprint", "integrity");
         if (!fingerprint.empty() && stored != fingerprint)

@@ -30,27 +30,23 @@ herr_t write_scalar_attribute(hid_t owner, const char* name, hid_t type, const v
 
 /// How a dataset is laid out in the file.
 enum class Storage {
-    Whole,      ///< every point is written: contiguous, no fill (a fill would write it twice)
-    ZeroFilled, ///< written in part: contiguous, zeros written at allocation
-    Chunked,    ///< written in part: deflated chunks, zero the fill value
+    Contiguous, ///< zeros written at allocation, then the values
+    Chunked,    ///< deflated chunks, zero the fill value
 };
 
 /// Dataset creation properties for `storage`. Parallel HDF5 leaves regions that no rank
-/// writes undefined, so a dataset written in part (a body's fields: its patch) needs zeros
-/// there. Contiguous, they are written out: the file holds every body's fields on the whole
-/// grid (capillary_coarse: 1.1 GB per file). In chunks of `chunk` points, deflated (level 1),
-/// a chunk of zeros takes a few bytes, so the file holds the patches (0.1 GB); HDF5 1.10
-/// then reads, merges and deflates again every chunk a patch covers in part, which costs
-/// more than it saves where the file is also read back (the checkpoint): only the
-/// snapshots use it.
+/// writes undefined, so every dataset gets zeros written at allocation; for a dataset every
+/// point of which is written this costs less than it saves (with no fill at all, the 128^3
+/// Taylor-Green checkpoint took 0.46-0.63 s against 0.27-0.31 s, session 50). A dataset
+/// written in part (a body's fields in a snapshot, on the whole grid) is stored in chunks of
+/// `chunk` points, deflated (level 1): a chunk of zeros takes a few bytes, so the file holds
+/// the patches, not (number of bodies) x (grid). HDF5 1.10 then reads, merges and deflates
+/// again every chunk a patch covers in part; the checkpoint, which also reads its file back,
+/// stores a body's fields on its patch box instead (write_block's `box`).
 class Creation {
   public:
     Creation(hid_t type, Storage storage, int rank, const hsize_t* chunk)
         : plist_(H5Pcreate(H5P_DATASET_CREATE)) {
-        if (storage == Storage::Whole) {
-            H5Pset_fill_time(plist_, H5D_FILL_TIME_NEVER);
-            return;
-        }
         const double zero_d = 0;
         const std::int64_t zero_i = 0;
         H5Pset_fill_value(plist_, type,
@@ -180,7 +176,7 @@ void Hdf5File::write_flat_any(const std::string& name, const Int3& n, const Int3
     const bool whole = dec_.sum(written) >= std::int64_t(total);
     // Chunks of 4096 points with all their components (at most the dataset).
     const hsize_t chunk[2] = {std::min<hsize_t>(total, 4096), hsize_t(ncomp)};
-    const Creation dcpl(type, whole ? Storage::Whole : Storage::Chunked, rank, chunk);
+    const Creation dcpl(type, whole ? Storage::Contiguous : Storage::Chunked, rank, chunk);
     errno = 0;
     hid_t dset = H5Dcreate2(file_, name.c_str(), type, fspace, H5P_DEFAULT, dcpl, H5P_DEFAULT);
     try {
@@ -222,24 +218,26 @@ void Hdf5File::write_flat(const std::string& name, const Int3& n, const Int3& o,
 }
 
 namespace {
-/// Selection of a field's owned box (whole block or patch) in the global [nz][ny][nx] array.
+/// Selection of the global cells `sel` (its part inside `stored`) in a dataset [nz][ny][nx]
+/// that holds the global box `stored`, and a memory space of `sel`'s size.
 struct BoxSpace {
     hid_t fspace, mspace;
-    BoxSpace(const Decomposition& dec, const Field& f) {
-        const GlobalGrid& g = dec.grid();
-        const LocalBlock& b = dec.block();
-        const Int3 o = f.begin(), n = f.cells();
-        const hsize_t dims[3] = {hsize_t(g.cells[2]), hsize_t(g.cells[1]), hsize_t(g.cells[0])};
-        const hsize_t start[3] = {hsize_t(b.offset[2] + o[2]), hsize_t(b.offset[1] + o[1]),
-                                  hsize_t(b.offset[0] + o[0])};
-        const hsize_t count[3] = {hsize_t(n[2]), hsize_t(n[1]), hsize_t(n[0])};
+    BoxSpace(const Box& stored, const Box& sel) {
+        const Int3 n = stored.size();
+        const hsize_t dims[3] = {hsize_t(n[2]), hsize_t(n[1]), hsize_t(n[0])};
         fspace = H5Screate_simple(3, dims, nullptr);
-        const bool empty = n[0] <= 0 || n[1] <= 0 || n[2] <= 0;
-        if (empty)
+        const Box part = intersect(sel, stored);
+        if (part.empty()) {
             H5Sselect_none(fspace);
-        else
+        } else {
+            const hsize_t start[3] = {hsize_t(part.lo[2] - stored.lo[2]),
+                                      hsize_t(part.lo[1] - stored.lo[1]),
+                                      hsize_t(part.lo[0] - stored.lo[0])};
+            const Int3 c = part.size();
+            const hsize_t count[3] = {hsize_t(c[2]), hsize_t(c[1]), hsize_t(c[0])};
             H5Sselect_hyperslab(fspace, H5S_SELECT_SET, start, nullptr, count, nullptr);
-        const hsize_t local = empty ? 0 : count[0] * count[1] * count[2];
+        }
+        const hsize_t local = hsize_t(std::max<std::int64_t>(0, part.count()));
         mspace = H5Screate_simple(1, &local, nullptr);
     }
     ~BoxSpace() {
@@ -247,6 +245,26 @@ struct BoxSpace {
         H5Sclose(fspace);
     }
 };
+
+/// The global cells of `f`'s owned box (its block, or its part of a patch).
+Box owned_global(const Decomposition& dec, const Field& f) {
+    const Int3 off = dec.block().offset;
+    Box b = f.owned();
+    for (int d = 0; d < 3; ++d) {
+        b.lo[d] += off[d];
+        b.hi[d] += off[d];
+    }
+    return b;
+}
+
+Box whole_grid(const GlobalGrid& g) {
+    Box b;
+    for (int d = 0; d < 3; ++d) {
+        b.lo[d] = 0;
+        b.hi[d] = g.cells[d];
+    }
+    return b;
+}
 } // namespace
 
 namespace {
@@ -267,14 +285,16 @@ void gather_owned(const Field& f, std::vector<double>& buf) {
 
 } // namespace
 
-std::uint64_t Hdf5File::write_block(const std::string& name, const Field& f) {
-    BoxSpace s(dec_, f);
+std::uint64_t Hdf5File::write_block(const std::string& name, const Field& f, const Box* box) {
+    const GlobalGrid& g = dec_.grid();
+    const Box stored = box ? *box : whole_grid(g);
+    const Box own = owned_global(dec_, f);
+    agree(own.empty() || intersect(own, stored).count() == own.count(),
+          fmt::format("writing dataset '{}': a rank's part lies outside its box", name));
+    BoxSpace s(stored, own);
     std::vector<double>& buf = scratch_;
     gather_owned(f, buf);
-    const GlobalGrid& g = dec_.grid();
-    const bool whole = dec_.sum(std::int64_t(buf.size())) == g.total_cells();
-    const Creation dcpl(H5T_NATIVE_DOUBLE, whole ? Storage::Whole : Storage::ZeroFilled, 3,
-                        nullptr);
+    const Creation dcpl(H5T_NATIVE_DOUBLE, Storage::Contiguous, 3, nullptr);
     errno = 0;
     hid_t dset = H5Dcreate2(file_, name.c_str(), H5T_NATIVE_DOUBLE, s.fspace, H5P_DEFAULT, dcpl,
                             H5P_DEFAULT);
@@ -283,6 +303,20 @@ std::uint64_t Hdf5File::write_block(const std::string& name, const Field& f) {
     } catch (...) {
         if (dset >= 0) H5Dclose(dset);
         throw;
+    }
+    if (box) {
+        // Where the box starts in the grid (x, y, z): a reader places the values with it.
+        const hsize_t three = 3;
+        const std::int64_t lo[3] = {box->lo[0], box->lo[1], box->lo[2]};
+        hid_t space = H5Screate_simple(1, &three, nullptr);
+        hid_t attr = H5Acreate2(dset, "box_lo", H5T_NATIVE_INT64, space, H5P_DEFAULT, H5P_DEFAULT);
+        const herr_t wl = attr >= 0 ? H5Awrite(attr, H5T_NATIVE_INT64, lo) : -1;
+        if (attr >= 0) H5Aclose(attr);
+        H5Sclose(space);
+        if (wl < 0) {
+            H5Dclose(dset);
+            agree(false, fmt::format("writing the box of dataset '{}'", name));
+        }
     }
     errno = 0;
     const herr_t w = H5Dwrite(dset, H5T_NATIVE_DOUBLE, s.mspace, s.fspace, xfer_, buf.data());
@@ -326,20 +360,59 @@ bool read_owned(const Decomposition& dec, hid_t file, hid_t xfer, const std::str
     if (nd == 3) H5Sget_simple_extent_dims(space, dims, nullptr);
     if (space >= 0) H5Sclose(space);
     const GlobalGrid& g = dec.grid();
-    if (nd != 3 || dims[0] != hsize_t(g.cells[2]) || dims[1] != hsize_t(g.cells[1]) ||
-        dims[2] != hsize_t(g.cells[0])) {
+    // The dataset holds the whole grid, or (attribute "box_lo") a box of it.
+    Box stored = whole_grid(g);
+    bool fits = nd == 3;
+    if (fits && H5Aexists(dset, "box_lo") > 0) {
+        std::int64_t lo[3] = {0, 0, 0};
+        hid_t attr = H5Aopen(dset, "box_lo", H5P_DEFAULT);
+        fits = attr >= 0 && H5Aread(attr, H5T_NATIVE_INT64, lo) >= 0;
+        if (attr >= 0) H5Aclose(attr);
+        for (int d = 0; d < 3 && fits; ++d) {
+            stored.lo[d] = int(lo[d]);
+            stored.hi[d] = int(lo[d] + std::int64_t(dims[2 - d]));
+            fits = stored.lo[d] >= 0 && stored.hi[d] <= g.cells[d];
+        }
+    } else {
+        fits = fits && dims[0] == hsize_t(g.cells[2]) && dims[1] == hsize_t(g.cells[1]) &&
+               dims[2] == hsize_t(g.cells[0]);
+    }
+    if (!fits) {
         H5Dclose(dset);
         why = fmt::format("dataset '{}' is {}x{}x{} but the case grid is {}x{}x{}", name, dims[2],
                           dims[1], dims[0], g.cells[0], g.cells[1], g.cells[2]);
         return false;
     }
-    BoxSpace s(dec, f);
-    buf.resize(std::size_t(std::max<std::int64_t>(0, f.owned().count())));
-    const herr_t r = H5Dread(dset, H5T_NATIVE_DOUBLE, s.mspace, s.fspace, xfer, buf.data());
+    // The owned box's part inside the stored box is read; the rest of it is 0 (nothing was
+    // written there).
+    const Box own = owned_global(dec, f);
+    const Box part = intersect(own, stored);
+    BoxSpace s(stored, own);
+    buf.assign(std::size_t(std::max<std::int64_t>(0, own.count())), 0.0);
+    std::vector<double> part_values;
+    const bool direct = part.count() == own.count();
+    if (!direct) part_values.resize(std::size_t(std::max<std::int64_t>(0, part.count())));
+    const herr_t r = H5Dread(dset, H5T_NATIVE_DOUBLE, s.mspace, s.fspace, xfer,
+                             direct ? buf.data() : part_values.data());
     H5Dclose(dset);
     if (r < 0) {
         why = fmt::format("dataset '{}' cannot be read (truncated file?)", name);
         return false;
+    }
+    if (!direct && !part.empty()) {
+        const Int3 on = own.size(), pn = part.size();
+        std::size_t q = 0;
+        for (int k = part.lo[2]; k < part.hi[2]; ++k)
+            for (int j = part.lo[1]; j < part.hi[1]; ++j) {
+                const std::size_t at =
+                    (std::size_t(k - own.lo[2]) * std::size_t(on[1]) + std::size_t(j - own.lo[1])) *
+                        std::size_t(on[0]) +
+                    std::size_t(part.lo[0] - own.lo[0]);
+                std::copy(part_values.begin() + std::ptrdiff_t(q),
+                          part_values.begin() + std::ptrdiff_t(q + std::size_t(pn[0])),
+                          buf.begin() + std::ptrdiff_t(at));
+                q += std::size_t(pn[0]);
+            }
     }
     return true;
 }

@@ -43,11 +43,13 @@ class Hdf5File {
                     const Int3& count, int ncomp, const std::vector<double>& values);
     void write_flat(const std::string& name, const Int3& global_points, const Int3& offset,
                     const Int3& count, int ncomp, const std::vector<std::int64_t>& values);
-    /// The owned values of a field (its block, or its patch) into a global 3D dataset
-    /// [nz][ny][nx]; points outside every rank's box read back as 0 (the fill value).
-    /// Stores the checksum of the values written (block_checksum) as the dataset's
-    /// attribute "checksum" and returns it.
-    std::uint64_t write_block(const std::string& name, const Field& f);
+    /// The owned values of a field (its block, or its patch) into a 3D dataset [nz][ny][nx]
+    /// that holds the whole grid, or with `box` (global cell indices, containing every
+    /// rank's part) only that box, whose start (x, y, z) goes into the attribute "box_lo";
+    /// points outside every rank's part read back as 0 (the fill value). Stores the checksum
+    /// of the values written (block_checksum) as the dataset's attribute "checksum" and
+    /// returns it.
+    std::uint64_t write_block(const std::string& name, const Field& f, const Box* box = nullptr);
     /// Read a field's owned values; when the dataset has a "checksum" attribute (or
     /// `require_checksum`), the values read must match it, else InputError. `written` (global
     /// cell indices, may be null): the box the dataset was written from, the only points the

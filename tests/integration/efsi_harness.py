@@ -52,13 +52,24 @@ def run(args, case, out=None, ranks=1, sets=(), extra=(), command="run", expect=
 
 
 def datasets(path):
-    """Every dataset of an HDF5 file as {name: array}."""
-    out = {}
+    """Every dataset of an HDF5 file as {name: array}. A checkpoint's body dataset holds only
+    its patch box (attribute box_lo: where the box starts, x, y, z): it is placed on the whole
+    grid (the shape of "pressure"), zero outside the box, so that checkpoints written on any
+    rank layout (whose patch boxes may differ) compare point by point."""
+    out, boxes = {}, {}
     with h5py.File(path, "r") as f:
         def visit(name, obj):
             if isinstance(obj, h5py.Dataset):
                 out[name] = obj[()]
+                if "box_lo" in obj.attrs:
+                    boxes[name] = [int(v) for v in obj.attrs["box_lo"]]
         f.visititems(visit)
+        for name, (x0, y0, z0) in boxes.items():
+            box = out[name]
+            full = np.zeros(out["pressure"].shape, dtype=box.dtype)
+            nz, ny, nx = box.shape
+            full[z0:z0 + nz, y0:y0 + ny, x0:x0 + nx] = box
+            out[name] = full
         for k, v in f.attrs.items():
             # numeric attributes only (a checkpoint also holds its case fingerprint and
             # the checksum of its attributes as strings)

@@ -8,7 +8,7 @@ import os
 
 import meshio
 
-from efsi_harness import check, parse_args, run, tg_grid
+from efsi_harness import check, datasets, parse_args, run, tg_grid
 
 args = parse_args()
 setups = {
@@ -78,7 +78,11 @@ with h5py.File(last, "r") as f, h5py.File(os.path.join(out, "checkpoint.h5"), "r
           f"capsule3d: phi_capsule stored in deflated chunks ({phi.chunks}, {phi.compression})")
     check(f["pressure"].chunks is None and f["velocity"].chunks is None,
           "capsule3d: the flow's fields are contiguous")
-    stored = c["body_capsule_phi"][...]
+    box = c["body_capsule_phi"]
+    check("box_lo" in box.attrs and box.size < c["pressure"].size,
+          f"capsule3d: the checkpoint holds the body's patch box only ({box.shape} from "
+          f"{list(box.attrs.get('box_lo', []))}, grid {c['pressure'].shape})")
+    stored = datasets(os.path.join(out, "checkpoint.h5"))["body_capsule_phi"]
     check(np.array_equal(phi[...].reshape(stored.shape), stored),
           "capsule3d: the snapshot's phi equals the checkpoint's, zeros outside the patch "
           "included")

@@ -34,6 +34,14 @@ def read_checkpoint(path):
     with h5py.File(path, "r") as f:
         data = {k: f[k][...] for k in f.keys() if isinstance(f[k], h5py.Dataset)}
         attrs = {k: float(v) for k, v in f.attrs.items()}
+        # A body's dataset holds its patch box (box_lo: its start, x, y, z), which depends on
+        # the rank layout: placed on the whole grid, zero outside, it compares point by point.
+        for k in list(data):
+            if "box_lo" in f[k].attrs:
+                x0, y0, z0 = (int(v) for v in f[k].attrs["box_lo"])
+                box = data[k]
+                data[k] = np.zeros(data["pressure"].shape)
+                data[k][z0:z0 + box.shape[0], y0:y0 + box.shape[1], x0:x0 + box.shape[2]] = box
     return data, attrs
 
 
