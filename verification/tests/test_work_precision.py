@@ -150,7 +150,22 @@ def test_capsule_3d_takes_committed_records_when_the_build_has_no_cache(tmp_path
     rows = prob["series"]["efsi, Ca 0.2"]
     assert [(r["n"], r["ranks"]) for r in rows] == [(16, 1), (32, 2)]
     assert all(r["source"].startswith("verification/records/capsule_shear/") for r in rows)
-    assert all(0.0 < r["error"] < 0.01 for r in rows)  # both meet the 0.01 target
+    # each row's error is the record's: max |D - D_RP98| over 0.2 <= t <= 2, recomputed here
+    # from the record's bodies.csv (how close that is to the 0.01 target is capsule_shear's
+    # bound to judge, not this test's)
+    import csv
+
+    ref = np.loadtxt(repo / "verification" / "data" / "capsule_shear"
+                     / "ramanujan_pozrikidis1998_ca0.2.csv", delimiter=",")
+    ref = ref[np.argsort(ref[:, 0])]
+    for r in rows:
+        with open(records / "capsule_shear" / f"3d_n{r['n']}_ca0.2_t2" / "bodies.csv") as f:
+            body = [row for row in csv.DictReader(f) if row["body"] == "capsule"]
+        t = np.array([float(row["time"]) for row in body])
+        d = np.array([float(row["taylor_deformation"]) for row in body])
+        m = (t >= max(0.2, ref[0, 0])) & (t <= min(2.0, ref[-1, 0], t[-1]))
+        want = float(np.max(np.abs(d[m] - np.interp(t[m], ref[:, 0], ref[:, 1]))))
+        assert r["error"] == pytest.approx(want, rel=1e-12), (r["n"], r["error"], want)
     # the width-sweep run is not a row of the neo-Hookean default-width series
     assert all(len(s) <= 2 for s in prob["series"].values())
 
