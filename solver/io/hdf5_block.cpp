@@ -15,7 +15,6 @@ namespace efsi {
 
 using hdf5_detail::Creation;
 using hdf5_detail::Storage;
-using hdf5_detail::write_scalar_attribute;
 
 namespace {
 /// Selection of the global cells `sel` (its part inside `stored`) in a dataset [nz][ny][nx]
@@ -120,14 +119,8 @@ std::uint64_t Hdf5File::write_block(const std::string& name, const Field& f, con
     }
     errno = 0;
     const herr_t w = H5Dwrite(dset, H5T_NATIVE_DOUBLE, s.mspace, s.fspace, xfer_, buf.data());
-    int e = errno;
-    const std::uint64_t sum = block_checksum(dec_, f, buf);
-    const herr_t wa = write_scalar_attribute(dset, "checksum", H5T_NATIVE_UINT64, &sum);
-    if (e == 0) e = errno;
-    const herr_t cl = H5Dclose(dset);
-    errno = e;
-    agree(w >= 0 && wa >= 0 && cl >= 0, fmt::format("writing dataset '{}'", name));
-    return sum;
+    const int e = errno;
+    return seal(dset, w, e, block_checksum(dec_, f, buf), name);
 }
 
 std::uint64_t Hdf5File::stored_checksum(const std::string& name) const {

@@ -199,12 +199,16 @@ std::uint64_t Hdf5File::write_array_any(const std::string& name, std::size_t n, 
     int e = errno;
     H5Sclose(mspace);
     H5Sclose(fspace);
-    const std::uint64_t sum = array_checksum(values, n);
+    return seal(dset, w, e, array_checksum(values, n), name);
+}
+
+std::uint64_t Hdf5File::seal(hid_t dset, herr_t written, int err, std::uint64_t sum,
+                             const std::string& name) {
     const herr_t wa = write_scalar_attribute(dset, "checksum", H5T_NATIVE_UINT64, &sum);
-    if (e == 0) e = errno;
+    if (err == 0) err = errno;
     const herr_t cl = H5Dclose(dset);
-    errno = e;
-    agree(w >= 0 && wa >= 0 && cl >= 0, fmt::format("writing dataset '{}'", name));
+    errno = err;
+    agree(written >= 0 && wa >= 0 && cl >= 0, fmt::format("writing dataset '{}'", name));
     return sum;
 }
 

@@ -117,6 +117,11 @@ class Hdf5File {
     /// All ranks agree on the outcome of `what`: throws IoError everywhere if it failed
     /// anywhere (with the errno of a failing rank when it is known).
     void agree(bool ok, const std::string& what) const;
+    /// Finish writing dataset `dset` (`written`: the status of its H5Dwrite, errno saved
+    /// right after it in `err`): store `sum` as its "checksum" attribute, close it, and
+    /// agree over the ranks that all of it succeeded. Returns `sum`.
+    std::uint64_t seal(hid_t dset, herr_t written, int err, std::uint64_t sum,
+                       const std::string& name);
     std::filesystem::path path_;
     hid_t file_ = -1;
     hid_t xfer_ = -1;
