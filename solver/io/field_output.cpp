@@ -150,7 +150,7 @@ void FieldOutput::write(const FlowState& s, const std::vector<const Body*>& bodi
     }
     std::vector<std::string> extra;
     // The flow's fields cover the grid; a body's, its patch: stored in deflated chunks
-    // (io/hdf5_file.cpp), the zeros around it take almost nothing and its values do not
+    // (io/hdf5_detail.hpp), the zeros around it take almost nothing and its values do not
     // shrink, so a snapshot's size follows the patches (10 bytes per patch value: the
     // values, the chunks' zeros and their index).
     std::uint64_t bytes = (1 + 3 + std::uint64_t(s.u.dim)) * std::uint64_t(g.total_cells()) * 8;
