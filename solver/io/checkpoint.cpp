@@ -7,7 +7,6 @@
 
 #include <algorithm>
 #include <cstring>
-#include <map>
 #include <sstream>
 
 namespace efsi {
@@ -30,24 +29,32 @@ std::string history_name(int c) {
 constexpr double format_version = 3;
 constexpr double oldest_format = 2;
 
-/// Every dataset of a checkpoint with the field it is written from / read into.
-std::vector<std::pair<std::string, Field*>> datasets(const FlowState& cs,
-                                                     const std::vector<Body*>& bodies) {
+/// One dataset of a checkpoint: its name, the field it is written from / read into, and the
+/// index of the body whose field it is (-1: the flow's, on the whole grid).
+struct Dataset {
+    std::string name;
+    Field* field;
+    int body;
+};
+
+/// Every dataset of a checkpoint.
+std::vector<Dataset> datasets(const FlowState& cs, const std::vector<Body*>& bodies) {
     FlowState& s = const_cast<FlowState&>(cs);
-    std::vector<std::pair<std::string, Field*>> out;
+    std::vector<Dataset> out;
     for (int c = 0; c < s.u.dim; ++c) {
-        out.emplace_back(velocity_name(c), &s.u[c]);
-        out.emplace_back(history_name(c), &s.adv_prev[c]);
+        out.push_back({velocity_name(c), &s.u[c], -1});
+        out.push_back({history_name(c), &s.adv_prev[c], -1});
     }
-    out.emplace_back("pressure", &s.p);
-    out.emplace_back("viscosity", &s.mu);
-    for (Body* b : bodies) {
-        out.emplace_back("body_" + b->name() + "_phi", &b->phi());
+    out.push_back({"pressure", &s.p, -1});
+    out.push_back({"viscosity", &s.mu, -1});
+    for (int q = 0; q < int(bodies.size()); ++q) {
+        Body* b = bodies[std::size_t(q)];
+        out.push_back({"body_" + b->name() + "_phi", &b->phi(), q});
         for (Field& c : b->tensor().comp)
-            out.emplace_back("body_" + c.name(), &c);
-        if (Field* kr = b->reference_curvature()) out.emplace_back("body_" + kr->name(), kr);
+            out.push_back({"body_" + c.name(), &c, q});
+        if (Field* kr = b->reference_curvature()) out.push_back({"body_" + kr->name(), kr, q});
         for (Field& c : b->reference_map())
-            out.emplace_back("body_" + c.name(), &c);
+            out.push_back({"body_" + c.name(), &c, q});
     }
     return out;
 }
@@ -156,23 +163,12 @@ void write_checkpoint(const fs::path& file, const Decomposition& dec, const Flow
             const auto all = datasets(s, bodies);
             // The flow's fields cover the grid; a body's, its patch box (the dataset holds
             // that box only), so the file's size follows the patches.
-            std::map<const Field*, const Box*> box_of;
-            for (Body* b : bodies) {
-                const Box* box = &b->patch().global;
-                box_of[&b->phi()] = box;
-                for (const Field& c : b->tensor().comp)
-                    box_of[&c] = box;
-                if (const Field* kr = b->reference_curvature()) box_of[kr] = box;
-                for (const Field& c : b->reference_map())
-                    box_of[&c] = box;
-            }
-            auto box_for = [&](const Field* field) -> const Box* {
-                const auto it = box_of.find(field);
-                return it == box_of.end() ? nullptr : it->second;
+            auto box_for = [&](const Dataset& d) -> const Box* {
+                return d.body < 0 ? nullptr : &bodies[std::size_t(d.body)]->patch().global;
             };
             std::uint64_t bytes = 0;
-            for (const auto& [name, field] : all) {
-                const Box* box = box_for(field);
+            for (const Dataset& d : all) {
+                const Box* box = box_for(d);
                 bytes += 8 * std::uint64_t(box ? std::max<std::int64_t>(0, box->count())
                                                : dec.grid().total_cells());
             }
@@ -183,8 +179,8 @@ void write_checkpoint(const fs::path& file, const Decomposition& dec, const Flow
                     bytes += 8 * v.size();
             }
             Hdf5File f(tmp, Hdf5File::Mode::Create, dec, bytes);
-            for (const auto& [name, field] : all)
-                sums.emplace_back(name, f.write_block(name, *field, box_for(field)));
+            for (const Dataset& d : all)
+                sums.emplace_back(d.name, f.write_block(d.name, *d.field, box_for(d)));
             for (const auto& [group, r] : records) {
                 for (const auto& [name, v] : r->reals)
                     sums.emplace_back(group + "/" + name, f.write_array(group + "/" + name, v));
@@ -228,11 +224,11 @@ void write_checkpoint(const fs::path& file, const Decomposition& dec, const Flow
             Hdf5File f(tmp, Hdf5File::Mode::Read, dec);
             const auto all = datasets(s, bodies);
             for (std::size_t q = 0; q < all.size(); ++q) {
-                const std::uint64_t back = f.read_checksum(all[q].first, *all[q].second);
-                if (back != sums[q].second || f.stored_checksum(all[q].first) != back)
+                const std::uint64_t back = f.read_checksum(all[q].name, *all[q].field);
+                if (back != sums[q].second || f.stored_checksum(all[q].name) != back)
                     throw IoError(fmt::format("{}: dataset '{}' read back differs from what "
                                               "was written",
-                                              tmp.string(), all[q].first));
+                                              tmp.string(), all[q].name));
             }
             for (std::size_t q = all.size(); q < sums.size(); ++q) {
                 const std::string& name = sums[q].first;
@@ -346,20 +342,9 @@ void read_checkpoint(const fs::path& file, const Decomposition& dec, FlowState& 
         }
         // A body's datasets hold its stored box; on this layout its patch may be wider (the
         // widening depends on the layout), so their checksums cover the stored box only.
-        std::map<const Field*, const Box*> written;
-        for (std::size_t q = 0; q < bodies.size(); ++q) {
-            Body& b = *bodies[q];
-            written[&b.phi()] = &written_box[q];
-            for (const Field& c : b.tensor().comp)
-                written[&c] = &written_box[q];
-            if (const Field* kr = b.reference_curvature()) written[kr] = &written_box[q];
-            for (const Field& c : b.reference_map())
-                written[&c] = &written_box[q];
-        }
-        for (const auto& [name, field] : datasets(s, bodies)) {
-            const auto it = written.find(field);
-            f.read_block(name, *field, true, it == written.end() ? nullptr : it->second);
-        }
+        for (const Dataset& d : datasets(s, bodies))
+            f.read_block(d.name, *d.field, true,
+                         d.body < 0 ? nullptr : &written_box[std::size_t(d.body)]);
         for (const auto& [group, r] : records) {
             r->reals.clear();
             r->integers.clear();
