@@ -47,19 +47,55 @@ Real3 body_half_extent(const BodyConfig& b, int dim) {
     return {inf, inf, inf}; // slab, mask, tube: checked otherwise
 }
 
+namespace {
+
+/// The Evans-Fung disc's largest half-thickness, max over r of
+/// (R0/2) sqrt(1 - r^2) (C0 + C1 r^2 + C2 r^4): with x = r^2 the stationary points of
+/// sqrt(1 - x) P(x) solve 2 (1 - x) P'(x) = P(x), a quadratic in x.
+real biconcave_half_thickness(const EvansFungCoefficients& k) {
+    auto g = [&](real x) { return std::sqrt(1 - x) * (k.c0 + k.c1 * x + k.c2 * x * x); };
+    real best = std::max(g(0.0), g(1.0));
+    const real a = -5 * k.c2, bq = 4 * k.c2 - 3 * k.c1, c = 2 * k.c1 - k.c0;
+    const real disc = bq * bq - 4 * a * c;
+    if (a != 0 && disc >= 0)
+        for (real sign : {-1.0, 1.0}) {
+            const real x = (-bq + sign * std::sqrt(disc)) / (2 * a);
+            if (x > 0 && x < 1) best = std::max(best, g(x));
+        }
+    return 0.5 * k.r0 * best;
+}
+
+} // namespace
+
 Real3 body_axis_extent(const BodyConfig& b, int dim) {
-    if (b.shape != BodyShape::Ellipsoid && b.shape != BodyShape::Box)
+    if (b.shape != BodyShape::Ellipsoid && b.shape != BodyShape::Box &&
+        b.shape != BodyShape::Biconcave)
         return body_half_extent(b, dim);
     // x = R y + c: the support function sqrt(sum_j (R_ij a_j)^2) of an ellipsoid,
-    // sum_j |R_ij| h_j of a box.
+    // sum_j |R_ij| h_j of a box; a biconcave disc lies in the cylinder rho <= R0,
+    // |z| <= its half-thickness t about its axis n = R e_z, whose support function along e_i
+    // is R0 sqrt(1 - n_i^2) + t |n_i| (a disc standing on its rim near a wall is not refused
+    // for its radius along the wall's normal).
     const Matrix3 rot = b.angle != 0 ? axis_angle_rotation(b.axis, b.angle) : identity_rotation();
+    real thickness = 0;
+    if (b.shape == BodyShape::Biconcave) {
+        EvansFungCoefficients k;
+        k.r0 = b.radius;
+        thickness = biconcave_half_thickness(k);
+    }
     Real3 e{};
-    for (int i = 0; i < 3; ++i)
+    for (int i = 0; i < 3; ++i) {
+        if (b.shape == BodyShape::Biconcave) {
+            const real n = std::min(std::abs(rot[i][2]), 1.0);
+            e[i] = b.radius * std::sqrt(1 - n * n) + thickness * n;
+            continue;
+        }
         e[i] = b.shape == BodyShape::Ellipsoid
                    ? std::hypot(rot[i][0] * b.semi_axes[0], rot[i][1] * b.semi_axes[1],
                                 rot[i][2] * b.semi_axes[2])
                    : std::abs(rot[i][0]) * b.half_sizes[0] + std::abs(rot[i][1]) * b.half_sizes[1] +
                          std::abs(rot[i][2]) * b.half_sizes[2];
+    }
     return e;
 }
 

@@ -175,8 +175,10 @@ struct VofConfig {
 Real3 body_half_extent(const BodyConfig& b, int dim);
 
 /// The exact half-extent of the body's initial shape along each axis (rotation included)
-/// for an ellipsoid or a box; body_half_extent otherwise. The check that a body lies inside
-/// the domain uses it, so that an ellipsoid lying flat by a wall is not refused.
+/// for an ellipsoid or a box, that of the cylinder holding it for a biconcave disc (radius
+/// R0, its largest half-thickness, about its rotated axis); body_half_extent otherwise. The
+/// check that a body lies inside the domain uses it, so that an ellipsoid lying flat by a
+/// wall, or a red cell turned edge-on to it, is not refused for its radius.
 Real3 body_axis_extent(const BodyConfig& b, int dim);
 
 /// Read and check the [[body]] sections against the grid (a body outside the domain is an

@@ -2,9 +2,11 @@
 // interfaces and membrane laws become enums, read once; a value outside the allowed ones,
 // or a key that does not belong to the body's kind, is an InputError naming the key.
 #include "config/body_config.hpp"
+#include "interface/shapes.hpp"
 #include "membrane/membrane_law.hpp"
 #include "test_support.hpp"
 
+#include <algorithm>
 #include <cmath>
 #include <numbers>
 
@@ -229,6 +231,46 @@ semi_axes = [1.0, 0.6, 1.0]
     EXPECT_NEAR(f[0], 1.5 / std::sqrt(2.0), 1e-14);
     EXPECT_NEAR(f[1], 1.5 / std::sqrt(2.0), 1e-14);
     EXPECT_NEAR(f[2], 0.25, 1e-14);
+
+    // A red cell (Evans-Fung disc, R0 = 1) lying flat by the wall y = 0, its axis along y:
+    // it reaches its largest half-thickness in y, R0 in x and z. The half-thickness against
+    // the profile (R0/2) sqrt(1 - r^2) (C0 + C1 r^2 + C2 r^4) sampled densely.
+    const EvansFungCoefficients k;
+    real sampled = 0;
+    for (int q = 0; q <= 200000; ++q) {
+        const real r2 = std::pow(q / 200000.0, 2);
+        sampled = std::max(sampled, 0.5 * std::sqrt(1 - r2) * (k.c0 + k.c1 * r2 + k.c2 * r2 * r2));
+    }
+    const std::string disc = box3 + R"(
+[[body]]
+name = "cell"
+kind = "membrane"
+shape = "biconcave"
+interface = "smoothed"
+radius = 1.0
+elastic_modulus = 1.0
+axis = [1.0, 0.0, 0.0]
+angle = 1.5707963267948966
+)";
+    const std::string flat_cell = disc + "centre = [2.0, 0.4, 2.0]\n";
+    const Real3 c = body_axis_extent(case_from(flat_cell).bodies[0], 3);
+    EXPECT_NEAR(c[0], 1.0, 1e-12);
+    EXPECT_NEAR(c[1], sampled, 1e-9);
+    EXPECT_NEAR(c[2], 1.0, 1e-12);
+    // Standing on its rim (axis along x), 0.4 from the wall: refused.
+    const std::string standing = box3 + R"(
+[[body]]
+name = "cell"
+kind = "membrane"
+shape = "biconcave"
+interface = "smoothed"
+radius = 1.0
+elastic_modulus = 1.0
+axis = [0.0, 1.0, 0.0]
+angle = 1.5707963267948966
+centre = [2.0, 0.4, 2.0]
+)";
+    EXPECT_THAT(input_error_of([&] { case_from(standing); }), HasSubstr("reaches through a wall"));
 }
 
 TEST(BodyConfig, IncrementDampingOnMembranesNeedsAMembraneAndHypre) {
