@@ -30,22 +30,25 @@ bool BodyPhysics::add_pinning(const Body&, Field&) const {
     return false;
 }
 
-void BodyPhysics::carry_tensor(Body&, const BodyStep&) {}
+BodyWork BodyPhysics::carry_tensor(Body&, const BodyStep&) {
+    co_return;
+}
 
 real BodyPhysics::restore_profile(Body&, const BodyStep&) {
     return 0;
 }
 
-void BodyPhysics::extend_tensor(Body&, const BodyStep&) {}
-
-void BodyPhysics::advance_tensor(Body& body, const BodyStep& s) {
-    if (!body.tensor().comp.empty()) carry_tensor(body, s);
+BodyWork BodyPhysics::extend_tensor(Body&, const BodyStep&) {
+    co_return;
 }
 
-real BodyPhysics::finish_advance(Body& body, const BodyStep& s) {
-    const real clipped = restore_profile(body, s);
-    extend_tensor(body, s);
-    return clipped;
+BodyWork BodyPhysics::advance_tensor(Body& body, const BodyStep& s) {
+    if (!body.tensor().comp.empty()) co_await carry_tensor(body, s);
+}
+
+BodyWork BodyPhysics::finish_advance(Body& body, const BodyStep& s, real& clipped) {
+    clipped = restore_profile(body, s);
+    co_await extend_tensor(body, s);
 }
 
 std::unique_ptr<BodyPhysics> make_body_physics(const BodyConfig& body, const BodyContext& ctx) {

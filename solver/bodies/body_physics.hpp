@@ -11,6 +11,7 @@
 #pragma once
 
 #include "bodies/body.hpp"
+#include "bodies/body_work.hpp"
 #include "boundary/boundary.hpp"
 #include "config/config.hpp"
 #include "interface/vof_advection.hpp"
@@ -73,22 +74,24 @@ class BodyPhysics {
     /// Carry the body over one flow step, in three parts that the caller runs for every body
     /// in turn (BodySystem::advance): the tensor with the velocity gradient of the step
     /// (advance_tensor); then phi, by vof()'s sweeps; then phi's profile restoration and the
-    /// tensor's extension (finish_advance, which returns the volume this rank clipped).
-    void advance_tensor(Body& body, const BodyStep& step);
+    /// tensor's extension (finish_advance, which sets `clipped` to the volume this rank
+    /// clipped). The first and the last are BodyWork (bodies/body_work.hpp), which the caller
+    /// runs for all bodies in rounds of halo fills.
+    BodyWork advance_tensor(Body& body, const BodyStep& step);
     VofAdvection& vof() { return *vof_; }
-    real finish_advance(Body& body, const BodyStep& step);
+    BodyWork finish_advance(Body& body, const BodyStep& step, real& clipped);
 
     /// The body's explicit time-step limits, each named (empty: none).
     const std::vector<TimeStepLimit>& time_step_limits() const { return limits_; }
 
   protected:
     /// D T/Dt = L T + T L^T of the body's tensor over the step (nothing by default).
-    virtual void carry_tensor(Body& body, const BodyStep& step);
+    virtual BodyWork carry_tensor(Body& body, const BodyStep& step);
     /// Restore the shape of phi's profile after the VOF step (nothing by default); returns
     /// the volume this rank clipped doing so [m^3].
     virtual real restore_profile(Body& body, const BodyStep& step);
     /// Rebuild the tensor outside the cells where it is known (nothing by default).
-    virtual void extend_tensor(Body& body, const BodyStep& step);
+    virtual BodyWork extend_tensor(Body& body, const BodyStep& step);
 
     const BodyConfig& cfg_;
     BodyContext ctx_;

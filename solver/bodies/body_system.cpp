@@ -327,8 +327,12 @@ void BodySystem::advance(const VelocityField& u, real dt, long step, StageTimers
     // with another rank would otherwise make each rank wait for the other at each of its
     // sweeps: measured, capillary_coarse on 2 ranks, a third of the VOF's time); then the
     // profiles and the tensors' extensions. Each body's arithmetic is as body by body.
-    for (std::size_t i : moving)
-        physics_[i]->advance_tensor(*bodies_[i], s);
+    timers.time("bodies_tensor", [&] {
+        std::vector<BodyWork> works;
+        for (std::size_t i : moving)
+            works.push_back(physics_[i]->advance_tensor(*bodies_[i], s));
+        run_in_rounds(works, halos_);
+    });
     timers.time("bodies_vof", [&] {
         std::vector<Field*> phis;
         std::vector<const Patch*> patches;
@@ -344,8 +348,15 @@ void BodySystem::advance(const VelocityField& u, real dt, long step, StageTimers
             halos_.fill(phis, patches);
         }
     });
-    for (std::size_t i : moving)
-        local[i].clipped_volume += physics_[i]->finish_advance(*bodies_[i], s);
+    timers.time("bodies_extension", [&] {
+        std::vector<real> clipped(bodies_.size(), 0.0);
+        std::vector<BodyWork> works;
+        for (std::size_t i : moving)
+            works.push_back(physics_[i]->finish_advance(*bodies_[i], s, clipped[i]));
+        run_in_rounds(works, halos_);
+        for (std::size_t i : moving)
+            local[i].clipped_volume += clipped[i];
+    });
     timers.time("bodies_vof_reduce", [&] {
         for (std::size_t i = 0; i < bodies_.size(); ++i)
             if (physics_[i]->moves())

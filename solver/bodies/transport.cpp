@@ -463,9 +463,9 @@ void transport_correct(const Box& box, const SymmetricTensorField* t1,
     rate_rows(box, spans, t1, sc1, source, u, g, stage2);
 }
 
-void BodyTransport::advance(Body& body, const VelocityField& u, real dt, bool tensor,
-                            real band_phi) {
-    if (body.patch().empty()) return;
+BodyWork BodyTransport::advance(Body& body, const VelocityField& u, real dt, bool tensor,
+                                real band_phi) {
+    if (body.patch().empty()) co_return;
     SymmetricTensorField* t = tensor && !body.tensor().comp.empty() ? &body.tensor() : nullptr;
     // The scalars: kappa_R (D s/Dt = 0), then the reference map's offset (D s/Dt = -v_d).
     std::vector<Field*> sc;
@@ -480,7 +480,7 @@ void BodyTransport::advance(Body& body, const VelocityField& u, real dt, bool te
     }
     const int n = t ? int(t->comp.size()) : 0;
     const int total = n + int(sc.size());
-    if (total == 0) return;
+    if (total == 0) co_return;
     const Field& lay = t ? t->comp[0] : *sc[0];
     const GlobalGrid& g = halos_.decomposition().grid();
     // Scratch fields follow the body's patch.
@@ -499,26 +499,30 @@ void BodyTransport::advance(Body& body, const VelocityField& u, real dt, bool te
     std::vector<const Field*> st1_c(st1.begin(), st1.end());
     SymmetricTensorField* stage = t ? &stage_ : nullptr;
     const Box& box = body.patch().local;
+    const Patch& patch = body.patch();
     // Heun's two stages: k1 = R(T^n), T1 = T^n + dt k1; T^{n+1} = T^n + dt/2 (k1 + R(T1)).
-    auto fill = [&](SymmetricTensorField* tt, const std::vector<Field*>& s) {
+    auto fields_of = [](SymmetricTensorField* tt, const std::vector<Field*>& s) {
+        std::vector<Field*> out;
         if (tt)
             for (Field& c : tt->comp)
-                halos_.fill(c, body.patch());
-        for (Field* f : s)
-            halos_.fill(*f, body.patch());
+                out.push_back(&c);
+        out.insert(out.end(), s.begin(), s.end());
+        return out;
     };
+    // A coroutine lambda: it lives in this frame, which waits for it to end.
     auto heun = [&](SymmetricTensorField* tt, const std::vector<Field*>& s,
                     const std::vector<const Field*>& s_c, SymmetricTensorField* st,
                     const std::vector<Field*>& s1, const std::vector<const Field*>& s1_c,
-                    const std::vector<int>& src, const RowSpans* first, const RowSpans* second) {
-        fill(tt, s);
+                    const std::vector<int>& src, const RowSpans* first,
+                    const RowSpans* second) -> BodyWork {
+        co_await halo_fill(fields_of(tt, s), patch);
         transport_predict(box, tt, s_c, src, u, g, dt, k1_, st, s1, first);
-        fill(st, s1);
+        co_await halo_fill(fields_of(st, s1), patch);
         transport_correct(box, st, s1_c, src, u, g, dt, k1_, tt, s, second);
     };
     if (!t || band_phi <= 0) {
-        heun(t, sc, sc_c, stage, st1, st1_c, source, nullptr, nullptr);
-        return;
+        co_await heun(t, sc, sc_c, stage, st1, st1_c, source, nullptr, nullptr);
+        co_return;
     }
     // The tensor on the band only: the second stage on the cells within 2 of it (a cube), the
     // first on those within 4, whose T1 the second stage's stencil (2 cells along each
@@ -528,11 +532,12 @@ void BodyTransport::advance(Body& body, const VelocityField& u, real dt, bool te
     if (band_.data().empty() || band_.begin() != phi.begin() || band_.cells() != phi.cells())
         band_ = Field::on_patch("band", Location::Cell, phi.begin(), phi.cells(), g.dim, 4);
     for_each_in(phi.owned(), [&](int i, int j, int k) { band_(i, j, k) = phi(i, j, k); });
-    halos_.fill(band_, body.patch());
+    co_await halo_fill(band_, patch);
     const std::vector<RowSpans> runs = band_spans(band_, box, band_phi, {2, 4});
     const RowSpans &second = runs[0], &first = runs[1];
-    heun(t, {}, {}, stage, {}, {}, {}, &first, &second);
-    if (!sc.empty()) heun(nullptr, sc, sc_c, nullptr, st1, st1_c, source, nullptr, nullptr);
+    co_await heun(t, {}, {}, stage, {}, {}, {}, &first, &second);
+    if (!sc.empty())
+        co_await heun(nullptr, sc, sc_c, nullptr, st1, st1_c, source, nullptr, nullptr);
 }
 
 } // namespace efsi

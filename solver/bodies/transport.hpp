@@ -23,6 +23,7 @@
 #pragma once
 
 #include "bodies/body.hpp"
+#include "bodies/body_work.hpp"
 #include "boundary/boundary.hpp"
 #include "grid/field.hpp"
 
@@ -86,8 +87,9 @@ class BodyTransport {
     /// with the face velocity u (halos filled). `band_phi` > 0: the tensor only on the cells
     /// within 2 cells (a cube) of one with band_phi <= phi <= 1 - band_phi, its first stage
     /// within 4 (its values elsewhere are left as they were); the scalars on the whole patch.
-    void advance(Body& body, const VelocityField& u, real dt, bool tensor = true,
-                 real band_phi = 0);
+    /// A BodyWork: it waits at each of its halo fills (run it with run_now or in rounds).
+    BodyWork advance(Body& body, const VelocityField& u, real dt, bool tensor = true,
+                     real band_phi = 0);
 
   private:
     const HaloFiller& halos_;

@@ -157,7 +157,7 @@ void MembraneBody::add_force(Body& body, VelocityField& force) {
     force_->add(body, *law_, force);
 }
 
-void MembraneBody::carry_tensor(Body& body, const BodyStep& s) {
+BodyWork MembraneBody::carry_tensor(Body& body, const BodyStep& s) {
     const VelocityField* carrier = &s.u;
     if (cfg_.carried_by_surface_velocity())
         s.timers.time("bodies_surface_velocity", [&] {
@@ -172,8 +172,13 @@ void MembraneBody::carry_tensor(Body& body, const BodyStep& s) {
     real band = 0;
     if (tensor && normal_extension_ && cfg_.band_transport)
         band = 0.5 * (1 - std::tanh(normal_extension_->reach_cells() / cfg_.smoothing_width));
-    s.timers.time("bodies_tensor",
-                  [&] { transport_->advance(body, *carrier, s.dt, tensor, band); });
+    if (carrier != &s.u) {
+        // The surface velocity is one buffer that every membrane's computes into: this body's
+        // transport ends before the next body's surface velocity is computed.
+        run_now(transport_->advance(body, *carrier, s.dt, tensor, band), ctx_.halos);
+        co_return;
+    }
+    co_await transport_->advance(body, *carrier, s.dt, tensor, band);
 }
 
 real MembraneBody::restore_profile(Body& body, const BodyStep& s) {
@@ -183,15 +188,13 @@ real MembraneBody::restore_profile(Body& body, const BodyStep& s) {
     return clipped;
 }
 
-void MembraneBody::extend_tensor(Body& body, const BodyStep& s) {
-    if (extension_) s.timers.time("bodies_extension", [&] { extension_->apply(body); });
-    if (normal_extension_)
-        s.timers.time("bodies_extension", [&] {
-            if (cfg_.carries_reference_map())
-                normal_extension_->apply_reference_map(body, false, reference_shape_.get());
-            else
-                normal_extension_->apply(body);
-        });
+BodyWork MembraneBody::extend_tensor(Body& body, const BodyStep&) {
+    if (extension_) extension_->apply(body);
+    if (!normal_extension_) co_return;
+    if (cfg_.carries_reference_map())
+        normal_extension_->apply_reference_map(body, false, reference_shape_.get());
+    else
+        co_await normal_extension_->apply(body);
 }
 
 } // namespace efsi

@@ -47,9 +47,9 @@ class MembraneBody final : public BodyPhysics {
     const MembraneLaw& law() const { return *law_; }
 
   protected:
-    void carry_tensor(Body& body, const BodyStep& step) override;
+    BodyWork carry_tensor(Body& body, const BodyStep& step) override;
     real restore_profile(Body& body, const BodyStep& step) override;
-    void extend_tensor(Body& body, const BodyStep& step) override;
+    BodyWork extend_tensor(Body& body, const BodyStep& step) override;
 
   private:
     void initialise_tensor(Body& body, const Shape& shape);

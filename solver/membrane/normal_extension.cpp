@@ -67,15 +67,14 @@ NormalExtension::NormalExtension(const HaloFiller& halos, const std::string& bod
     }
 }
 
-bool NormalExtension::prepare(Body& body, const std::vector<const Field*>& fields,
-                              bool psi_current) {
+BodyWork NormalExtension::prepare(Body& body, const std::vector<const Field*>& fields,
+                                  bool psi_current) {
     const Decomposition& dec = halos_.decomposition();
     const int dim = dec.grid().dim;
     const int ncomp = int(fields.size());
-    const bool empty = body.patch().empty();
     Field& phi = body.phi();
     const real eps = eps_cells_ * dec.grid().dx(0);
-    if (!empty) {
+    {
         // The buffers follow the patch; the number of sources changes between the calls of
         // one step (the map's 3, then Gs's 6 with the weights), so they are kept for the
         // largest count and reused, not allocated again at every call.
@@ -112,14 +111,14 @@ bool NormalExtension::prepare(Body& body, const std::vector<const Field*>& field
     }
     // Collective: every rank with a part of the patch takes part (the patch's exchange
     // flags pair the ranks).
-    if (empty) return false;
+    std::vector<Field*> wide;
     if (!psi_current) {
-        halos_.fill(psi_, body.patch());
-        halos_.fill(psi_wide_, body.patch());
+        wide.push_back(&psi_);
+        wide.push_back(&psi_wide_);
     }
     for (int s = 0; s < ncomp; ++s)
-        halos_.fill(src_[s], body.patch());
-    return true;
+        wide.push_back(&src_[s]);
+    co_await halo_fill(std::move(wide), body.patch());
 }
 
 real NormalExtension::cell_coordinate(real x, int d) const {
@@ -232,20 +231,20 @@ bool NormalExtension::normal_at(const Int3& p, real& s, Real3& n, real& gradient
     return true;
 }
 
-void NormalExtension::apply(Body& body) {
-    apply_tensor(body, core_cells_);
+BodyWork NormalExtension::apply(Body& body) {
+    co_await apply_tensor(body, core_cells_);
 }
 
-void NormalExtension::apply_tensor(Body& body, real core_cells, const Field* weight,
-                                   const Field* area, bool psi_current) {
+BodyWork NormalExtension::apply_tensor(Body& body, real core_cells, const Field* weight,
+                                       const Field* area, bool psi_current) {
     SymmetricTensorField& G = body.tensor();
-    if (G.comp.empty()) return;
+    if (G.comp.empty() || body.patch().empty()) co_return;
     std::vector<const Field*> fields;
     for (const Field& c : G.comp)
         fields.push_back(&c);
     if (weight) fields.push_back(weight);
     if (weight && area) fields.push_back(area);
-    if (!prepare(body, fields, psi_current)) return;
+    co_await prepare(body, fields, psi_current);
     const Decomposition& dec = halos_.decomposition();
     const GlobalGrid& g = dec.grid();
     const LocalBlock& block = dec.block();
@@ -331,8 +330,10 @@ void NormalExtension::apply_tensor(Body& body, real core_cells, const Field* wei
             }
         }
     });
+    std::vector<Field*> comps;
     for (Field& c : G.comp)
-        halos_.fill(c, body.patch());
+        comps.push_back(&c);
+    co_await halo_fill(std::move(comps), body.patch());
 }
 
 void NormalExtension::apply_reference_map(Body& body, bool whole_band, const Shape* reference) {
@@ -342,7 +343,8 @@ void NormalExtension::apply_reference_map(Body& body, bool whole_band, const Sha
     std::vector<const Field*> fields;
     for (const Field& c : X)
         fields.push_back(&c);
-    if (!prepare(body, fields)) return;
+    if (body.patch().empty()) return;
+    run_now(prepare(body, fields), halos_);
     const Decomposition& dec = halos_.decomposition();
     const GlobalGrid& g = dec.grid();
     const LocalBlock& block = dec.block();
@@ -507,8 +509,9 @@ void NormalExtension::apply_reference_map(Body& body, bool whole_band, const Sha
     //    grid-scale noise that differences of X and second differences of psi carry (keeping
     //    the cells' own values within one cell of the surface gave tr Gs spikes of 8-27 at the
     //    tips of the d/16 Ca 0.05 capsule, against 2.35 with the copy; docs/method.md).
-    apply_tensor(body, 0.0, &valid_, area_filter_ ? &filtered_area_ratio_ : nullptr,
-                 /*psi_current=*/true);
+    run_now(apply_tensor(body, 0.0, &valid_, area_filter_ ? &filtered_area_ratio_ : nullptr,
+                         /*psi_current=*/true),
+            halos_);
 }
 
 } // namespace efsi

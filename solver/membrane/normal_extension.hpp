@@ -20,6 +20,7 @@
 #pragma once
 
 #include "bodies/body.hpp"
+#include "bodies/body_work.hpp"
 #include "boundary/boundary.hpp"
 #include "grid/field.hpp"
 
@@ -50,8 +51,9 @@ class NormalExtension {
                     real core_cells, real reach_cells = -1, bool cubic_map = true,
                     bool area_filter = false, bool newton_foot = false);
 
-    /// Replace Gs on the body's patch as described above; fills Gs's halos. Collective.
-    void apply(Body& body);
+    /// Replace Gs on the body's patch as described above; fills Gs's halos. Collective; a
+    /// BodyWork that waits at its halo fills (bodies/body_work.hpp).
+    BodyWork apply(Body& body);
     /// strain_model = reference_map: extend the body's reference map X from the core along
     /// the normals (X(x) = X(y), y the foot point; kept beyond the band), then set Gs from
     /// its gradient taken along the surface (membrane/reference_map.hpp) near the surface
@@ -75,11 +77,11 @@ class NormalExtension {
     /// copy is rescaled to the mean J over those cells.
     /// `psi_current`: psi_ and psi_wide_ already hold this phi's (an earlier prepare() of the
     /// same call, phi unchanged since), so prepare() copies the fields only.
-    void apply_tensor(Body& body, real core_cells, const Field* weight = nullptr,
-                      const Field* area = nullptr, bool psi_current = false);
-    /// psi and a wide-halo copy of `fields` (src_); false on a rank without the patch.
+    BodyWork apply_tensor(Body& body, real core_cells, const Field* weight = nullptr,
+                          const Field* area = nullptr, bool psi_current = false);
+    /// psi and a wide-halo copy of `fields` (src_), on a rank with a part of the patch.
     /// `psi_current`: see apply_tensor.
-    bool prepare(Body& body, const std::vector<const Field*>& fields, bool psi_current = false);
+    BodyWork prepare(Body& body, const std::vector<const Field*>& fields, bool psi_current = false);
     /// The trilinear stencil at x: the index (in src_'s layout) of its low corner and the
     /// weights of its points, x fastest.
     struct Trilinear {

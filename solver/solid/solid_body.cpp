@@ -21,12 +21,13 @@ void SolidBody::add_force(Body& body, VelocityField& force) {
     add_elastic_force(force, body, law_, ctx_.run.grid, ctx_.dec.block());
 }
 
-void SolidBody::carry_tensor(Body& body, const BodyStep& s) {
-    s.timers.time("bodies_tensor", [&] { transport_->advance(body, s.u, s.dt); });
+BodyWork SolidBody::carry_tensor(Body& body, const BodyStep& s) {
+    co_await transport_->advance(body, s.u, s.dt);
 }
 
-void SolidBody::extend_tensor(Body& body, const BodyStep& s) {
-    if (extension_) s.timers.time("bodies_extension", [&] { extension_->apply(body); });
+BodyWork SolidBody::extend_tensor(Body& body, const BodyStep&) {
+    if (extension_) extension_->apply(body);
+    co_return;
 }
 
 FixedWall::FixedWall(const BodyConfig& body, const BodyContext& ctx)

@@ -24,8 +24,8 @@ class SolidBody final : public BodyPhysics {
     const SolidLaw& law() const { return law_; }
 
   protected:
-    void carry_tensor(Body& body, const BodyStep& step) override;
-    void extend_tensor(Body& body, const BodyStep& step) override;
+    BodyWork carry_tensor(Body& body, const BodyStep& step) override;
+    BodyWork extend_tensor(Body& body, const BodyStep& step) override;
 
   private:
     SolidLaw law_;

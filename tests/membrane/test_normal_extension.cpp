@@ -86,7 +86,7 @@ Result run(int dim, int m) {
     });
     s.halos->fill(body.phi(), body.patch());
     NormalExtension ext(*s.halos, "capsule", 1.0, 1.0);
-    ext.apply(body);
+    run_now(ext.apply(body), *s.halos);
     Result r;
     const real band = std::atanh(1 - 2e-5) * eps;
     const real reach = ext.reach_cells() * h;
@@ -180,7 +180,7 @@ TEST(NormalExtension, NewtonFootBeyondTheWideHaloFallsBackToPsisFoot) {
     });
     s.halos->fill(body.phi(), body.patch());
     NormalExtension ext(*s.halos, "disc", 1.0, 1.0, -1, true, false, /*newton_foot=*/true);
-    ext.apply(body);
+    run_now(ext.apply(body), *s.halos);
     auto psi = [&](int i, int j) {
         const real v = std::clamp(1 - 2 * body.phi()(i, j, 0), -1 + 1e-15, 1 - 1e-15);
         return h * std::atanh(v);

@@ -159,8 +159,8 @@ int main(int argc, char** argv) {
         const real dt = end_time / steps;
         const auto t0 = std::chrono::steady_clock::now();
         for (int n = 0; n < steps; ++n) {
-            transport.advance(solid, u, dt);
-            transport.advance(membrane, u, dt);
+            run_now(transport.advance(solid, u, dt), halos);
+            run_now(transport.advance(membrane, u, dt), halos);
         }
         const double seconds =
             std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
