@@ -47,7 +47,7 @@ BodyWork BodyPhysics::advance_tensor(Body& body, const BodyStep& s) {
 }
 
 BodyWork BodyPhysics::finish_advance(Body& body, const BodyStep& s, real& clipped) {
-    clipped = restore_profile(body, s);
+    clipped += restore_profile(body, s);
     co_await extend_tensor(body, s);
 }
 

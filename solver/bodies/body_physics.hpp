@@ -74,7 +74,7 @@ class BodyPhysics {
     /// Carry the body over one flow step, in three parts that the caller runs for every body
     /// in turn (BodySystem::advance): the tensor with the velocity gradient of the step
     /// (advance_tensor); then phi, by vof()'s sweeps; then phi's profile restoration and the
-    /// tensor's extension (finish_advance, which sets `clipped` to the volume this rank
+    /// tensor's extension (finish_advance, which adds to `clipped` the volume this rank
     /// clipped). The first and the last are BodyWork (bodies/body_work.hpp), which the caller
     /// runs for all bodies in rounds of halo fills.
     BodyWork advance_tensor(Body& body, const BodyStep& step);

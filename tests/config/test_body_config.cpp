@@ -241,7 +241,9 @@ semi_axes = [1.0, 0.6, 1.0]
         const real r2 = std::pow(q / 200000.0, 2);
         sampled = std::max(sampled, 0.5 * std::sqrt(1 - r2) * (k.c0 + k.c1 * r2 + k.c2 * r2 * r2));
     }
-    const std::string disc = box3 + R"(
+    // A cell turned by 90 degrees about `axis`, 0.4 from the wall y = 0.
+    auto cell = [&](const std::string& axis) {
+        return box3 + R"(
 [[body]]
 name = "cell"
 kind = "membrane"
@@ -249,27 +251,17 @@ shape = "biconcave"
 interface = "smoothed"
 radius = 1.0
 elastic_modulus = 1.0
-axis = [1.0, 0.0, 0.0]
 angle = 1.5707963267948966
-)";
-    const std::string flat_cell = disc + "centre = [2.0, 0.4, 2.0]\n";
-    const Real3 c = body_axis_extent(case_from(flat_cell).bodies[0], 3);
+centre = [2.0, 0.4, 2.0]
+axis = )" + axis +
+               "\n";
+    };
+    const Real3 c = body_axis_extent(case_from(cell("[1.0, 0.0, 0.0]")).bodies[0], 3);
     EXPECT_NEAR(c[0], 1.0, 1e-12);
     EXPECT_NEAR(c[1], sampled, 1e-9);
     EXPECT_NEAR(c[2], 1.0, 1e-12);
-    // Standing on its rim (axis along x), 0.4 from the wall: refused.
-    const std::string standing = box3 + R"(
-[[body]]
-name = "cell"
-kind = "membrane"
-shape = "biconcave"
-interface = "smoothed"
-radius = 1.0
-elastic_modulus = 1.0
-axis = [0.0, 1.0, 0.0]
-angle = 1.5707963267948966
-centre = [2.0, 0.4, 2.0]
-)";
+    // Standing on its rim (its axis along x): refused.
+    const std::string standing = cell("[0.0, 1.0, 0.0]");
     EXPECT_THAT(input_error_of([&] { case_from(standing); }), HasSubstr("reaches through a wall"));
 }
 
