@@ -74,41 +74,39 @@ BodyWork NormalExtension::prepare(Body& body, const std::vector<const Field*>& f
     const int ncomp = int(fields.size());
     Field& phi = body.phi();
     const real eps = eps_cells_ * dec.grid().dx(0);
-    {
-        // The buffers follow the patch; the number of sources changes between the calls of
-        // one step (the map's 3, then Gs's 6 with the weights), so they are kept for the
-        // largest count and reused, not allocated again at every call.
-        const bool moved =
-            psi_.data().empty() || psi_.begin() != phi.begin() || psi_.cells() != phi.cells();
-        if (moved && psi_current)
-            throw std::logic_error("NormalExtension: psi marked current on a moved patch");
-        if (moved) {
-            psi_ = Field::on_patch("psi", Location::Cell, phi.begin(), phi.cells(), dim, 1);
-            psi_wide_ = Field::on_patch("psi_wide", Location::Cell, phi.begin(), phi.cells(), dim,
-                                        wide_halo_);
-            src_.clear();
-        }
-        while (int(src_.size()) < ncomp)
-            src_.push_back(Field::on_patch("extension_source", Location::Cell, phi.begin(),
-                                           phi.cells(), dim, wide_halo_));
-        // Row by row: psi, then a copy of each field's owned values.
-        const Box own = phi.owned();
-        const int nx = own.hi[0] - own.lo[0];
-        for (int k = own.lo[2]; k < own.hi[2]; ++k)
-            for (int j = own.lo[1]; j < own.hi[1]; ++j) {
-                if (!psi_current) {
-                    const real* f = phi.data().data() + phi.index(own.lo[0], j, k);
-                    real* p = &psi_(own.lo[0], j, k);
-                    for (int i = 0; i < nx; ++i)
-                        p[i] = profile_distance(f[i], eps);
-                    std::copy(p, p + nx, &psi_wide_(own.lo[0], j, k));
-                }
-                for (int s = 0; s < ncomp; ++s) {
-                    const real* from = fields[s]->data().data() + fields[s]->index(own.lo[0], j, k);
-                    std::copy(from, from + nx, &src_[s](own.lo[0], j, k));
-                }
-            }
+    // The buffers follow the patch; the number of sources changes between the calls of
+    // one step (the map's 3, then Gs's 6 with the weights), so they are kept for the
+    // largest count and reused, not allocated again at every call.
+    const bool moved =
+        psi_.data().empty() || psi_.begin() != phi.begin() || psi_.cells() != phi.cells();
+    if (moved && psi_current)
+        throw std::logic_error("NormalExtension: psi marked current on a moved patch");
+    if (moved) {
+        psi_ = Field::on_patch("psi", Location::Cell, phi.begin(), phi.cells(), dim, 1);
+        psi_wide_ =
+            Field::on_patch("psi_wide", Location::Cell, phi.begin(), phi.cells(), dim, wide_halo_);
+        src_.clear();
     }
+    while (int(src_.size()) < ncomp)
+        src_.push_back(Field::on_patch("extension_source", Location::Cell, phi.begin(), phi.cells(),
+                                       dim, wide_halo_));
+    // Row by row: psi, then a copy of each field's owned values.
+    const Box own = phi.owned();
+    const int nx = own.hi[0] - own.lo[0];
+    for (int k = own.lo[2]; k < own.hi[2]; ++k)
+        for (int j = own.lo[1]; j < own.hi[1]; ++j) {
+            if (!psi_current) {
+                const real* f = phi.data().data() + phi.index(own.lo[0], j, k);
+                real* p = &psi_(own.lo[0], j, k);
+                for (int i = 0; i < nx; ++i)
+                    p[i] = profile_distance(f[i], eps);
+                std::copy(p, p + nx, &psi_wide_(own.lo[0], j, k));
+            }
+            for (int s = 0; s < ncomp; ++s) {
+                const real* from = fields[s]->data().data() + fields[s]->index(own.lo[0], j, k);
+                std::copy(from, from + nx, &src_[s](own.lo[0], j, k));
+            }
+        }
     // Collective: every rank with a part of the patch takes part (the patch's exchange
     // flags pair the ranks).
     std::vector<Field*> wide;

@@ -79,7 +79,8 @@ class NormalExtension {
     /// same call, phi unchanged since), so prepare() copies the fields only.
     BodyWork apply_tensor(Body& body, real core_cells, const Field* weight = nullptr,
                           const Field* area = nullptr, bool psi_current = false);
-    /// psi and a wide-halo copy of `fields` (src_), on a rank with a part of the patch.
+    /// psi and a wide-halo copy of `fields` (src_). Only on a rank with a part of the patch
+    /// (the callers return first on an empty one).
     /// `psi_current`: see apply_tensor.
     BodyWork prepare(Body& body, const std::vector<const Field*>& fields, bool psi_current = false);
     /// The trilinear stencil at x: the index (in src_'s layout) of its low corner and the
