@@ -147,12 +147,17 @@ int main(int argc, char** argv) {
                 check_memory(cfg, size);
                 if (*check) {
                     const int n = estimate_ranks > 0 ? estimate_ranks : size;
-                    if (rank == 0)
+                    if (rank == 0) {
                         std::cout << fmt::format(
                                          "# case '{}' is valid ({}D, {} cells, {} rank(s))\n",
                                          cfg.name, cfg.grid.dim, cfg.grid.total_cells(), size)
-                                  << describe(estimate_run(cfg, n), cfg, n) << cfg.resolved_toml
-                                  << "\n";
+                                  << describe(estimate_run(cfg, n), cfg, n);
+                        for (const BodyConfig& b : cfg.bodies)
+                            if (!b.mask_mapping.empty())
+                                std::cout
+                                    << fmt::format("# body '{}': {}\n", b.name, b.mask_mapping);
+                        std::cout << cfg.resolved_toml << "\n";
+                    }
                 } else {
                     RunOptions opt;
                     opt.output_dir = output.empty() ? fs::path("out") / cfg.name : fs::path(output);

@@ -7,7 +7,7 @@
 #include "core/error.hpp"
 #include "interface/geometry.hpp"
 #include "interface/shapes.hpp"
-#include "io/hdf5_file.hpp"
+#include "io/voxel_mask.hpp"
 #include "membrane/membrane_force.hpp"
 #include "membrane/surface_velocity.hpp"
 #include "solid/solid_mechanics.hpp"
@@ -99,34 +99,32 @@ void BodySystem::initialise_body(std::size_t i) {
         const auto file = std::filesystem::path(bc.mask_file).is_absolute()
                               ? std::filesystem::path(bc.mask_file)
                               : cfg_.case_dir / bc.mask_file;
-        if (!std::filesystem::exists(file))
-            throw InputError(
-                fmt::format("body '{}': mask_file {} does not exist", bc.name, file.string()));
+        // Each rank reads the voxels its cells cover; a value outside [0, 1] anywhere is
+        // reported by every rank (the first one in the image), before anything is written.
+        VoxelMask mask;
+        std::int64_t bad = -1;
         try {
-            Hdf5File f(file, Hdf5File::Mode::Read, dec_);
-            if (!f.has(bc.mask_dataset))
-                throw InputError(fmt::format("body '{}': body.mask_dataset: {} has no dataset "
-                                             "'{}'",
-                                             bc.name, file.string(), bc.mask_dataset));
-            f.read_block(bc.mask_dataset, phi);
+            mask = read_voxel_mask_header(file, bc.mask_dataset);
+            place_on_grid(mask, g, cfg_.length_unit);
+            check_mask_against_grid(mask, g, cfg_.length_unit);
+            bad = read_voxel_values(
+                mask, file, bc.mask_dataset,
+                mask_voxels_for(mask, g, dec_.block(), phi.owned(), bc.subsamples));
         } catch (const InputError& e) {
-            const std::string m = e.what();
-            throw InputError(
-                m.rfind("body '", 0) == 0
-                    ? m
-                    : fmt::format("body '{}': body.mask_file {}: {}", bc.name, file.string(), m));
-        } catch (const IoError& e) {
             throw InputError(fmt::format("body '{}': body.mask_file: {}", bc.name, e.what()));
         }
-        int bad = 0;
-        for_each_in(phi.owned(), [&](int a, int b, int c) {
-            if (!std::isfinite(phi(a, b, c))) bad = 1;
-            phi(a, b, c) = std::clamp(phi(a, b, c), 0.0, 1.0);
-        });
-        if (dec_.max(real(bad)) > 0)
-            throw InputError(fmt::format("body '{}': body.mask_file {}: dataset '{}' holds "
-                                         "values that are not finite",
-                                         bc.name, file.string(), bc.mask_dataset));
+        constexpr real none = std::numeric_limits<real>::max();
+        const real first_bad = dec_.min(bad < 0 ? none : real(bad));
+        if (first_bad < none) {
+            const auto v = std::int64_t(first_bad);
+            const std::int64_t nx = mask.voxels[0], ny = mask.voxels[1];
+            throw InputError(fmt::format("body '{}': body.mask_file {}: dataset '{}' holds a "
+                                         "value that is not in [0, 1] (not finite, or past it) "
+                                         "at voxel ({}, {}, {})",
+                                         bc.name, file.string(), bc.mask_dataset, v % nx,
+                                         (v / nx) % ny, v / (nx * ny)));
+        }
+        mask_volume_fraction(mask, g, dec_.block(), phi, bc.subsamples);
     } else {
         if (bc.interface == InterfaceKind::Smoothed) {
             // phi = (1 - tanh(L / eps)) / 2, L the shape's distance-like level function.

@@ -108,7 +108,7 @@ MembraneLawKind parse_membrane_law(const std::string& name, const std::string& k
 }
 
 std::vector<BodyConfig> read_bodies(TableReader& top, const GlobalGrid& grid,
-                                    const std::array<bool, 3>& periodic) {
+                                    const std::array<bool, 3>& periodic, std::string_view unit) {
     std::vector<BodyConfig> bodies;
     std::set<std::string> names;
     for (TableReader& r : top.tables("body", "the bodies: one [[body]] section each")) {
@@ -135,7 +135,10 @@ std::vector<BodyConfig> read_bodies(TableReader& top, const GlobalGrid& grid,
         b.angle = r.number("angle", 0.0, Range{}, "rad", "orientation: rotation angle about axis");
         b.mask_file = r.string("mask_file", "", {}, "mask: HDF5 file, relative to the case folder");
         b.mask_dataset = r.string("mask_dataset", "mask", {},
-                                  "mask: dataset [nz][ny][nx] of cell volume fractions in [0,1]");
+                                  "mask: dataset [nz][ny][nx] of 0/1 labels or volume fractions "
+                                  "in [0,1], with attributes spacing and origin (3 numbers each, "
+                                  "the case's length unit; resampled when the voxels are not the "
+                                  "cells) or neither (then it has the grid's cells)");
         b.interface = read_choice(r, "interface", InterfaceKind::Sharp, interface_names,
                                   "sharp: exact cell volume fractions; smoothed: tanh profile "
                                   "(the membrane's smoothed VOF)");
@@ -288,9 +291,9 @@ std::vector<BodyConfig> read_bodies(TableReader& top, const GlobalGrid& grid,
                 const real lumen_r = 0.5 * b.lumen_diameter;
                 if (b.centre[d] - lumen_r < lo || b.centre[d] + lumen_r > hi)
                     throw InputError(fmt::format(
-                        "{}: body.lumen_diameter = {:.4g} m about body.centre[{}] = {:.4g} m "
+                        "{}: body.lumen_diameter = {:.4g} {} about body.centre[{}] = {:.4g} {} "
                         "reaches outside the domain [{:.4g}, {:.4g}] in {}",
-                        at, b.lumen_diameter, d, b.centre[d], lo, hi, "xyz"[d]));
+                        at, b.lumen_diameter, unit, d, b.centre[d], unit, lo, hi, "xyz"[d]));
             }
         }
         if (b.shape == BodyShape::Mask && b.mask_file.empty())
@@ -363,10 +366,10 @@ std::vector<BodyConfig> read_bodies(TableReader& top, const GlobalGrid& grid,
             const bool crosses_wall = !periodic[d] && (a < lo || z > hi);
             if (outside || crosses_wall)
                 throw InputError(fmt::format(
-                    "{}: body.centre / size: the {} reaches {} from {:.4g} to {:.4g} m in {}, "
+                    "{}: body.centre / size: the {} reaches {} from {:.4g} to {:.4g} {} in {}, "
                     "outside the domain [{:.4g}, {:.4g}]",
-                    at, keyword(b.shape), outside ? "entirely" : "through a wall", a, z, "xyz"[d],
-                    lo, hi));
+                    at, keyword(b.shape), outside ? "entirely" : "through a wall", a, z, unit,
+                    "xyz"[d], lo, hi));
         }
         bodies.push_back(b);
     }

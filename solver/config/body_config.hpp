@@ -89,6 +89,8 @@ struct BodyConfig {
     real angle = 0;                    ///< orientation: rotation angle [rad]
     std::string mask_file;             ///< mask: HDF5 file (relative to the case folder)
     std::string mask_dataset = "mask"; ///< mask: dataset [nz][ny][nx] of values in [0,1]
+    /// mask: how it maps onto the grid (copied or resampled), found when the case is read
+    std::string mask_mapping;
     InterfaceKind interface = InterfaceKind::Sharp;
     real smoothing_width = 1.0; ///< smoothed: eps of the tanh profile, in cells
     int subsamples = 8;         ///< sharp: sub-samples per direction in cut cells
@@ -184,8 +186,10 @@ Real3 body_axis_extent(const BodyConfig& b, int dim);
 /// Read and check the [[body]] sections against the grid (a body outside the domain is an
 /// error naming it). Called by the case reader, which then checks the mask files and keys
 /// that belong to another shape (check_shape_keys).
+/// `length_unit` labels lengths in the messages.
 std::vector<BodyConfig> read_bodies(TableReader& top, const GlobalGrid& grid,
-                                    const std::array<bool, 3>& periodic);
+                                    const std::array<bool, 3>& periodic,
+                                    std::string_view length_unit = "m");
 /// Keys set for a shape the body does not have (lumen_diameter on a non-tube): checked last,
 /// so a shape changed by hand is reported for what the new shape misses.
 void check_shape_keys(const std::vector<BodyConfig>& bodies);

@@ -2,6 +2,7 @@
 
 #include "config/reader.hpp"
 #include "core/error.hpp"
+#include "io/voxel_mask.hpp"
 
 #include <fmt/core.h>
 
@@ -385,7 +386,7 @@ Config read_config(toml::table& root, const std::filesystem::path& case_dir) {
             "(checked at each diagnostics step)");
         r.finish();
     }
-    c.bodies = read_bodies(top, c.grid, periodic_directions(c.boundaries));
+    c.bodies = read_bodies(top, c.grid, periodic_directions(c.boundaries), c.length_unit);
     if (!KeyCatalogue::instance().documenting)
         for (std::size_t k = 0; k < c.bodies.size(); ++k) {
             const BodyConfig& b = c.bodies[k];
@@ -401,6 +402,16 @@ Config read_config(toml::table& root, const std::filesystem::path& case_dir) {
             if (!fs::is_regular_file(st))
                 throw InputError(
                     fmt::format("body[{}].mask_file = \"{}\": not a regular file", k, b.mask_file));
+            // The header only (size, spacing, origin): a mask that misses the box, or has no
+            // placement and another size than the grid, is refused before any allocation.
+            try {
+                VoxelMask m = read_voxel_mask_header(file, b.mask_dataset);
+                place_on_grid(m, c.grid, c.length_unit);
+                c.bodies[k].mask_mapping =
+                    check_mask_against_grid(m, c.grid, c.length_unit).description;
+            } catch (const InputError& e) {
+                throw InputError(fmt::format("body[{}].mask_file / mask_dataset: {}", k, e.what()));
+            }
         }
     if (!KeyCatalogue::instance().documenting) check_shape_keys(c.bodies);
     // Every section that does not depend on the seeded bodies is read before the seeding,
@@ -426,7 +437,8 @@ Config read_config(toml::table& root, const std::filesystem::path& case_dir) {
         read_adhesion(top, c.grid, c.bodies, /*check_receptor_bodies=*/false);
         top.finish_except({"seeding"});
     }
-    c.seeding = expand_seeding(root, top, c.grid, periodic_directions(c.boundaries), c.bodies);
+    c.seeding = expand_seeding(root, top, c.grid, periodic_directions(c.boundaries), c.bodies,
+                               c.length_unit);
     c.adhesion = read_adhesion(top, c.grid, c.bodies);
     top.finish();
 

@@ -80,7 +80,7 @@ struct Template {
 /// naming seeding.kind[i].body.
 BodyConfig read_template_body(const toml::table& body, std::size_t i, const std::string& name,
                               const BodyConfig& vessel, const GlobalGrid& grid,
-                              const std::array<bool, 3>& periodic) {
+                              const std::array<bool, 3>& periodic, std::string_view unit) {
     const std::string at = fmt::format("seeding.kind[{}].body", i);
     for (const char* k : {"name", "centre", "axis", "angle"})
         if (body.contains(k))
@@ -94,7 +94,7 @@ BodyConfig read_template_body(const toml::table& body, std::size_t i, const std:
     tmp.insert("body", toml::array{t});
     TableReader top(&tmp, "");
     try {
-        std::vector<BodyConfig> one = read_bodies(top, grid, periodic);
+        std::vector<BodyConfig> one = read_bodies(top, grid, periodic, unit);
         check_shape_keys(one);
         return one.at(0);
     } catch (const InputError& e) {
@@ -148,7 +148,8 @@ void rotation_axis_angle(const Matrix3& r, Real3& axis, real& angle) {
 }
 
 SeedingReport expand_seeding(toml::table& root, TableReader& top, const GlobalGrid& grid,
-                             const std::array<bool, 3>& periodic, std::vector<BodyConfig>& bodies) {
+                             const std::array<bool, 3>& periodic, std::vector<BodyConfig>& bodies,
+                             std::string_view unit) {
     SeedingReport rep;
     const bool documenting = KeyCatalogue::instance().documenting;
     if (!documenting && !top.has("seeding")) return rep;
@@ -245,7 +246,7 @@ SeedingReport expand_seeding(toml::table& root, TableReader& top, const GlobalGr
         if (!body || !body->is_table())
             throw InputError(at + ".body: required table is missing (the cells' body keys)");
         t.body_toml = *body->as_table();
-        t.body = read_template_body(t.body_toml, i, t.name, *tube, grid, periodic);
+        t.body = read_template_body(t.body_toml, i, t.name, *tube, grid, periodic, unit);
         if (!seedable(t.body.shape))
             throw InputError(fmt::format("{}.body.shape = \"{}\": a cell must be a sphere, "
                                          "ellipsoid, biconcave disc or box",
@@ -301,9 +302,9 @@ SeedingReport expand_seeding(toml::table& root, TableReader& top, const GlobalGr
         }
     for (int d = 0; d < (in_domain ? 3 : 1); ++d)
         if (!(q.box_hi[d] > q.box_lo[d]))
-            throw InputError(fmt::format("seeding: the box is {:.4g} m long in {}, too short for "
-                                         "a cell of {:.4g} m across plus the gap at both ends",
-                                         grid.length[d], "xyz"[d], 2 * reach));
+            throw InputError(fmt::format("seeding: the box is {:.4g} {} long in {}, too short for "
+                                         "a cell of {:.4g} {} across plus the gap at both ends",
+                                         grid.length[d], unit, "xyz"[d], 2 * reach, unit));
     q.fill_kind = std::max(fill, 0);
     q.target_fraction = target;
     q.gap = gap;

@@ -51,8 +51,10 @@ struct SeedingReport {
 /// it places to `bodies` and, as [[body]] tables, to `root` (which loses its [seeding]
 /// table, so the resolved case is the explicit scene). A target that cannot be reached is
 /// an InputError saying what was reached.
+/// `length_unit` labels lengths in the messages.
 SeedingReport expand_seeding(toml::table& root, TableReader& top, const GlobalGrid& grid,
-                             const std::array<bool, 3>& periodic, std::vector<BodyConfig>& bodies);
+                             const std::array<bool, 3>& periodic, std::vector<BodyConfig>& bodies,
+                             std::string_view length_unit = "m");
 
 /// The axis and angle of a rotation matrix (the inverse of axis_angle_rotation; angle in
 /// [0, pi], axis (0, 0, 1) for the identity).

@@ -496,6 +496,8 @@ void Simulation::log_start() {
         log(fmt::format("{}; haematocrit {:.4f} of the lumen of '{}' ({:.4g} {}^3), gap {:.3g} {}",
                         sr.message, sr.achieved, sr.vessel, sr.lumen_volume, cfg_.length_unit,
                         sr.gap, cfg_.length_unit));
+    for (const BodyConfig& b : cfg_.bodies)
+        if (!b.mask_mapping.empty()) log(fmt::format("body '{}': {}", b.name, b.mask_mapping));
     if (!body_limits_.empty()) {
         std::string limits;
         for (const TimeStepLimit& l : body_limits_)

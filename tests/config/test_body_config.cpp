@@ -221,6 +221,10 @@ semi_axes = [1.0, 0.6, 1.0]
     // Turned by 90 degrees about z, its long axis stands normal to the wall: refused.
     const std::string turned = flat + "axis = [0.0, 0.0, 1.0]\nangle = 1.5707963267948966\n";
     EXPECT_THAT(input_error_of([&] { case_from(turned); }), HasSubstr("reaches through a wall"));
+    // Lengths in the message carry the case's unit label.
+    EXPECT_THAT(input_error_of([&] { case_from(turned); }), HasSubstr("m in y"));
+    EXPECT_THAT(input_error_of([&] { case_from("[case]\nlength_unit = \"um\"\n" + turned); }),
+                HasSubstr("from -0.3 to 1.7 um in y"));
     // A box turned by 45 degrees about z reaches (hx + hy) / sqrt(2) in x and y.
     BodyConfig b;
     b.shape = BodyShape::Box;

@@ -131,6 +131,77 @@ TEST(VoxelMask, AMaskThatDoesNotCoverTheBoxIsRefusedWithBothExtents) {
     }
 }
 
+TEST(VoxelMask, AMaskWithoutPlacementIsOnTheGridsOwnCellsOrRefused) {
+    const auto p = write_mask("bare.h5", {16, 16, 16}, {}, {},
+                              [](int i, int, int) { return i < 4 ? 1.0 : 0.25; });
+    VoxelMask m = read_voxel_mask(p, "wall");
+    EXPECT_FALSE(m.placed);
+    GlobalGrid g = grid16();
+    g.origin = {1e-6, -2e-6, 0};
+    place_on_grid(m, g);
+    EXPECT_TRUE(m.placed);
+    EXPECT_TRUE(check_mask_against_grid(m, g).aligned);
+    LocalBlock b{g.cells, {0, 0, 0}};
+    Field phi("phi", Location::Cell, b, 3);
+    mask_volume_fraction(m, g, b, phi);
+    EXPECT_EQ(phi(3, 5, 7), 1.0);
+    EXPECT_EQ(phi(4, 5, 7), 0.25);
+
+    VoxelMask other = read_voxel_mask_header(p, "wall");
+    GlobalGrid finer = grid16();
+    finer.cells = {32, 16, 16};
+    try {
+        place_on_grid(other, finer, "um");
+        FAIL() << "placed a 16^3 mask on a 32 x 16 x 16 grid";
+    } catch (const InputError& e) {
+        EXPECT_THAT(e.what(), HasSubstr("16 x 16 x 16 voxels and no spacing/origin"));
+        EXPECT_THAT(e.what(), HasSubstr("grid's 32 x 16 x 16 cells"));
+        EXPECT_THAT(e.what(), HasSubstr("origin in um"));
+    }
+}
+
+TEST(VoxelMask, ARankReadsOnlyTheVoxelsItsCellsCoverAndGetsTheSameFractions) {
+    const int n = 34;
+    const auto p = write_mask(
+        "part.h5", {n, n, n}, {0.5e-6, 0.5e-6, 0.5e-6}, {-0.625e-6, -0.625e-6, -0.625e-6},
+        [](int i, int j, int k) { return (i + 2 * j + 3 * k) % 5 == 0 ? 1.0 : 0.1 * (i % 7); });
+    const VoxelMask whole = read_voxel_mask(p, "wall");
+    const GlobalGrid g = grid16();
+    // One rank's block: cells [8, 16) x [0, 16) x [4, 11) of the grid, and a patch in it.
+    const LocalBlock block{{8, 16, 7}, {8, 0, 4}};
+    Field all("all", Location::Cell, block, 3), part("part", Location::Cell, block, 3);
+    mask_volume_fraction(whole, g, block, all, 4);
+    VoxelMask mine = read_voxel_mask_header(p, "wall");
+    const Box cells = all.owned();
+    const Box need = mask_voxels_for(mine, g, block, cells, 4);
+    EXPECT_EQ(read_voxel_values(mine, p, "wall", need), -1);
+    EXPECT_LT(mine.values.size(), whole.values.size() / 3);
+    mask_volume_fraction(mine, g, block, part, 4);
+    for_each_in(cells, [&](int i, int j, int k) { ASSERT_EQ(part(i, j, k), all(i, j, k)); });
+    // A bad value inside the part is found (its index over the whole image); outside, not.
+    const auto q = write_mask(
+        "partbad.h5", {n, n, n}, {0.5e-6, 0.5e-6, 0.5e-6}, {-0.625e-6, -0.625e-6, -0.625e-6},
+        [](int i, int j, int k) { return i == 30 && j == 3 && k == 12 ? 1.5 : 0.0; });
+    VoxelMask bad = read_voxel_mask_header(q, "wall");
+    EXPECT_EQ(read_voxel_values(bad, q, "wall", need), 30 + n * (3 + n * 12));
+    EXPECT_EQ(read_voxel_values(bad, q, "wall", Box{{0, 0, 0}, {20, n, n}}), -1);
+    EXPECT_THROW(read_voxel_values(bad, q, "wall", Box{{0, 0, 0}, {n + 1, n, n}}), InputError);
+}
+
+TEST(VoxelMask, MessagesCarryTheCasesLengthUnit) {
+    const auto p = write_mask("unit.h5", {12, 16, 16}, {1, 1, 1}, {0, 0, 0},
+                              [](int, int, int) { return 1.0; });
+    GlobalGrid g;
+    g.cells = {16, 16, 16};
+    g.length = {16, 16, 16};
+    try {
+        check_mask_against_grid(read_voxel_mask(p, "wall"), g, "um");
+        FAIL() << "accepted a mask shorter than the box";
+    } catch (const InputError& e) {
+        EXPECT_THAT(e.what(), HasSubstr("covers [0, 12] um in x but the grid spans [0, 16] um"));
+    }
+}
+
 TEST(VoxelMask, MalformedMasksAreRefusedByName) {
     auto expect_error = [](const fs::path& p, const std::string& ds, const std::string& what) {
         try {
@@ -146,7 +217,10 @@ TEST(VoxelMask, MalformedMasksAreRefusedByName) {
     expect_error(temp_file("missing.h5"), "wall", "not a readable file");
     expect_error(
         write_mask("nospacing.h5", {4, 4, 4}, {}, {0, 0, 0}, [](int, int, int) { return 1.0; }),
-        "wall", "attribute 'spacing'");
+        "wall", "attribute 'spacing' (3 numbers) is missing");
+    expect_error(
+        write_mask("noorigin.h5", {4, 4, 4}, {1, 1, 1}, {}, [](int, int, int) { return 1.0; }),
+        "wall", "attribute 'origin' (3 numbers) is missing");
     expect_error(write_mask("twospacing.h5", {4, 4, 4}, {1, 1}, {0, 0, 0},
                             [](int, int, int) { return 1.0; }),
                  "wall", "must hold 3 numbers");
