@@ -24,6 +24,10 @@ BodyPhysics::~BodyPhysics() = default;
 
 void BodyPhysics::initialise(Body&, const Shape*) {}
 
+BodyWork BodyPhysics::prepare_force(Body&) {
+    co_return;
+}
+
 void BodyPhysics::add_force(Body&, VelocityField&) {}
 
 bool BodyPhysics::add_pinning(const Body&, Field&) const {

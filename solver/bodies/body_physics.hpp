@@ -65,7 +65,12 @@ class BodyPhysics {
     virtual real viscosity() const { return ctx_.run.fluid.viscosity; }
     /// Whether add_force adds anything (the force field exists only if some body does).
     virtual bool adds_force() const { return false; }
-    /// Add the body's force density [N/m^3] to the face field `force`.
+    /// The body's force, in two parts that the caller runs for every body in turn
+    /// (BodySystem::add_forces): prepare_force, the work on the body's own fields (a
+    /// BodyWork, bodies/body_work.hpp, run for all bodies in rounds of halo fills; nothing by
+    /// default), then add_force, which adds the force density [N/m^3] to the face field
+    /// `force`, body after body, so that the sums are those of one body at a time.
+    virtual BodyWork prepare_force(Body& body);
     virtual void add_force(Body& body, VelocityField& force);
     /// Add phi / (tau / dt) of a body held by penalisation to the cell field `chi`; returns
     /// whether the body is so held.

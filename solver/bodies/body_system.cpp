@@ -358,6 +358,13 @@ bool BodySystem::adds_force() const {
 void BodySystem::add_forces(VelocityField& force) {
     for (int c = 0; c < force.dim; ++c)
         force[c].fill(0);
+    // Each body's work on its own fields in rounds of halo fills (a rank does not wait at a
+    // body's fill while the other still works on a body it holds more of), then the forces
+    // added body after body: the sums of a body-by-body loop.
+    std::vector<BodyWork> works;
+    for (std::size_t i = 0; i < bodies_.size(); ++i)
+        works.push_back(physics_[i]->prepare_force(*bodies_[i]));
+    run_in_rounds(works, halos_);
     for (std::size_t i = 0; i < bodies_.size(); ++i)
         physics_[i]->add_force(*bodies_[i], force);
     if (cfg_.contact.stiffness > 0 && bodies_.size() > 1) {

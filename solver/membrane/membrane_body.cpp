@@ -153,8 +153,12 @@ void MembraneBody::initialise_reference_curvature(Body& body, const Shape& shape
     }
 }
 
+BodyWork MembraneBody::prepare_force(Body& body) {
+    return force_->prepare(body, *law_);
+}
+
 void MembraneBody::add_force(Body& body, VelocityField& force) {
-    force_->add(body, *law_, force);
+    force_->scatter(body, force);
 }
 
 BodyWork MembraneBody::carry_tensor(Body& body, const BodyStep& s) {

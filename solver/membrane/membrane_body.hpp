@@ -41,6 +41,7 @@ class MembraneBody final : public BodyPhysics {
     /// Gs = P_R = I - n_R n_R and kappa_R from the shape's level sets (kept for a mask).
     void initialise(Body& body, const Shape* shape) override;
     bool adds_force() const override { return true; }
+    BodyWork prepare_force(Body& body) override;
     void add_force(Body& body, VelocityField& force) override;
     /// The enclosed fluid's viscosity, viscosity_ratio x the fluid's.
     real viscosity() const override { return cfg_.viscosity_ratio * ctx_.run.fluid.viscosity; }

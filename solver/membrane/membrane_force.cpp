@@ -269,19 +269,25 @@ void MembraneForce::allocate(const Patch& patch) {
 }
 
 void MembraneForce::add(Body& body, const MembraneLaw& law, VelocityField& force) {
+    run_now(prepare(body, law), halos_);
+    scatter(body, force);
+}
+
+BodyWork MembraneForce::prepare(Body& body, const MembraneLaw& law) {
     const Patch& patch = body.patch();
     const int dim = g_.dim;
-    if (patch.empty()) return;
-    halos_.fill(body.phi(), patch);
-    for (Field& c : body.tensor().comp)
-        halos_.fill(c, patch);
+    if (patch.empty()) co_return;
     const bool bending = settings_.bending_modulus > 0;
-    if (bending) {
-        if (!body.reference_curvature())
-            throw InputError("membrane '" + body.name() +
-                             "': a bending modulus needs the body to carry kappa_R");
-        halos_.fill(*body.reference_curvature(), patch);
-    }
+    if (bending && !body.reference_curvature())
+        throw InputError("membrane '" + body.name() +
+                         "': a bending modulus needs the body to carry kappa_R");
+    // phi, Gs and kappa_R in one fill (named, not a braced temporary: GCC 12 miscompiles
+    // those inside a coroutine).
+    std::vector<Field*> inputs{&body.phi()};
+    for (Field& c : body.tensor().comp)
+        inputs.push_back(&c);
+    if (bending) inputs.push_back(body.reference_curvature());
+    co_await halo_fill(std::move(inputs), patch);
 
     if (stress_.comp.empty() || !(stress_box_ == patch.local)) allocate(patch);
     for (const Int3& q : band_) { // clear the previous band only
@@ -310,6 +316,13 @@ void MembraneForce::add(Body& body, const MembraneLaw& law, VelocityField& force
                         band_);
     }
 
+    if (bending) co_await prepare_bending(body);
+}
+
+void MembraneForce::scatter(const Body& body, VelocityField& force) const {
+    const Patch& patch = body.patch();
+    const int dim = g_.dim;
+    if (patch.empty()) return;
     // Pass 2: scatter the staggered divergence of S from each band cell q to the faces
     // whose stencil contains q (the transpose of the gather formula in the header), on the
     // faces of the patch's owned cells.
@@ -379,10 +392,10 @@ void MembraneForce::add(Body& body, const MembraneLaw& law, VelocityField& force
         }
     }
 
-    if (bending) add_bending(body, force);
+    if (settings_.bending_modulus > 0) scatter_bending(body, force);
 }
 
-void MembraneForce::add_bending(Body& body, VelocityField& force) {
+BodyWork MembraneForce::prepare_bending(Body& body) {
     const Patch& patch = body.patch();
     const int dim = g_.dim;
     const real h = g_.dx(0); // cubic cells (the config reader enforces it)
@@ -524,9 +537,16 @@ void MembraneForce::add_bending(Body& body, VelocityField& force) {
         }
         ++bending_cells_;
     }
+    std::vector<Field*> q;
     for (int d = 0; d < dim; ++d)
-        halos_.fill(q_[d], patch);
+        q.push_back(&q_[d]);
+    co_await halo_fill(std::move(q), patch);
+}
 
+void MembraneForce::scatter_bending(const Body& body, VelocityField& force) const {
+    const Patch& patch = body.patch();
+    const int dim = g_.dim;
+    const real h = g_.dx(0);
     // Pass C: the force -div(delta_b q n): S_b,dk = -n_d Q_k, scattered like the tension's
     // S (the d-force takes the k-difference of S_dk).
     auto add_to = [&](int d, const Int3& p, real v) {

@@ -39,6 +39,7 @@
 #pragma once
 
 #include "bodies/body.hpp"
+#include "bodies/body_work.hpp"
 #include "bodies/symmetric_tensor.hpp"
 #include "boundary/boundary.hpp"
 #include "interface/geometry.hpp"
@@ -119,9 +120,17 @@ class MembraneForce {
 
     /// Add the force density |grad phi| f of membrane `body` (law `law`) to the face
     /// field `force` (whole block or any field covering the body's patch, same indices)
-    /// on the faces of the patch's owned cells. Fills the body's phi and Gs halos first.
-    /// This is the one call the time loop makes per membrane body per step.
+    /// on the faces of the patch's owned cells: prepare, run now, then scatter.
     void add(Body& body, const MembraneLaw& law, VelocityField& force);
+
+    /// The force's work on the body's own fields: fills phi's, Gs's (and kappa_R's) halos,
+    /// computes S on the band and, with bending, the transverse shear q (whose halos it
+    /// fills). A BodyWork (bodies/body_work.hpp): the time loop runs it for all membranes
+    /// in rounds of halo fills.
+    BodyWork prepare(Body& body, const MembraneLaw& law);
+    /// Add the force density of the last prepare() to `force` (tension, then bending):
+    /// no halo fill, so the time loop adds the bodies' forces body after body.
+    void scatter(const Body& body, VelocityField& force) const;
 
     /// S = |grad phi| tau_s of the last call, on the patch (owned cells and one halo layer).
     const SymmetricTensorField& stress() const { return stress_; }
@@ -135,7 +144,8 @@ class MembraneForce {
 
   private:
     void allocate(const Patch& patch);
-    void add_bending(Body& body, VelocityField& force);
+    BodyWork prepare_bending(Body& body);
+    void scatter_bending(const Body& body, VelocityField& force) const;
 
     GlobalGrid g_;
     const HaloFiller& halos_;

@@ -2,6 +2,7 @@
 // an inflated circle (2D) is loaded along its normal with magnitude T/R, the net force of
 // a closed membrane is zero. Grids are anisotropic; runs at 1 and 2 ranks.
 #include "bodies/body.hpp"
+#include "bodies/body_work.hpp"
 #include "boundary/boundary.hpp"
 #include "membrane/membrane_force.hpp"
 #include "membrane_test_grid.hpp"
@@ -9,6 +10,7 @@
 #include "test_support.hpp"
 
 #include <cmath>
+#include <memory>
 #include <numbers>
 
 using namespace efsi;
@@ -171,4 +173,47 @@ TEST(MembraneForce, InflatedCircleIsLoadedAlongItsNormal) {
     // The conservative form telescopes: zero net force to round-off.
     for (int d = 0; d < 2; ++d)
         EXPECT_NEAR(global_sum(net[d]), 0.0, 1e-13 * exact);
+}
+
+// The time loop prepares every membrane's force in rounds of halo fills, then scatters them
+// body after body (BodySystem::add_forces): the same force, bit for bit, as add() body by
+// body, with tension and bending, for two bodies whose bands overlap (on 2 ranks both cross
+// the ranks' boundary).
+TEST(MembraneForce, PreparedInRoundsThenScatteredEqualsAddBodyByBody) {
+    GridSetup s = make_setup(3, {38, 36, 34}, 1.0 / 16);
+    const auto law = make_membrane_law("skalak", 1.0, 10.0);
+    MembraneForceSettings settings;
+    settings.bending_modulus = 0.01;
+    std::vector<std::unique_ptr<Body>> bodies;
+    std::vector<std::unique_ptr<MembraneForce>> forces;
+    for (int m = 0; m < 2; ++m) {
+        bodies.push_back(std::make_unique<Body>("cell", BodyKind::Membrane, true, 3));
+        build_inflated(s, *bodies.back(), m == 0 ? 0.3 : 0.35, m == 0 ? 1.05 : 1.1);
+        Field& kappa = *bodies.back()->reference_curvature();
+        for_each_in(bodies.back()->patch().local,
+                    [&](int i, int j, int k) { kappa(i, j, k) = 2.5; });
+        forces.push_back(std::make_unique<MembraneForce>(s.g, *s.halos, settings));
+    }
+    VelocityField one("one", s.dec->block(), 3), rounds("rounds", s.dec->block(), 3);
+    for (int d = 0; d < 3; ++d) {
+        one[d].fill(0);
+        rounds[d].fill(0);
+    }
+    for (int m = 0; m < 2; ++m)
+        forces[m]->add(*bodies[m], *law, one);
+    std::vector<BodyWork> works;
+    for (int m = 0; m < 2; ++m)
+        works.push_back(forces[m]->prepare(*bodies[m], *law));
+    run_in_rounds(works, *s.halos);
+    for (int m = 0; m < 2; ++m)
+        forces[m]->scatter(*bodies[m], rounds);
+    real loaded = 0, differ = 0;
+    for (int d = 0; d < 3; ++d)
+        for_each_in(bodies[0]->patch().local, [&](int i, int j, int k) {
+            loaded += std::abs(one[d](i, j, k));
+            if (one[d](i, j, k) != rounds[d](i, j, k)) ++differ;
+        });
+    EXPECT_GT(global_sum(loaded), 0.0);
+    EXPECT_EQ(global_sum(differ), 0.0);
+    EXPECT_GT(forces[0]->bending_cells() + forces[1]->bending_cells(), 0u);
 }
