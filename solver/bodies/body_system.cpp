@@ -104,12 +104,9 @@ void BodySystem::initialise_body(std::size_t i) {
         VoxelMask mask;
         std::int64_t bad = -1;
         try {
-            mask = read_voxel_mask_header(file, bc.mask_dataset);
-            place_on_grid(mask, g, cfg_.length_unit);
-            check_mask_against_grid(mask, g, cfg_.length_unit);
+            mask = read_voxel_mask_for_grid(file, bc.mask_dataset, g, cfg_.length_unit);
             bad = read_voxel_values(
-                mask, file, bc.mask_dataset,
-                mask_voxels_for(mask, g, dec_.block(), phi.owned(), bc.subsamples));
+                mask, mask_voxels_for(mask, g, dec_.block(), phi.owned(), bc.subsamples));
         } catch (const InputError& e) {
             throw InputError(fmt::format("body '{}': body.mask_file: {}", bc.name, e.what()));
         }

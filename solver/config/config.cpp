@@ -405,10 +405,9 @@ Config read_config(toml::table& root, const std::filesystem::path& case_dir) {
             // The header only (size, spacing, origin): a mask that misses the box, or has no
             // placement and another size than the grid, is refused before any allocation.
             try {
-                VoxelMask m = read_voxel_mask_header(file, b.mask_dataset);
-                place_on_grid(m, c.grid, c.length_unit);
-                c.bodies[k].mask_mapping =
-                    check_mask_against_grid(m, c.grid, c.length_unit).description;
+                MaskMapping map;
+                read_voxel_mask_for_grid(file, b.mask_dataset, c.grid, c.length_unit, &map);
+                c.bodies[k].mask_mapping = map.description;
             } catch (const InputError& e) {
                 throw InputError(fmt::format("body[{}].mask_file / mask_dataset: {}", k, e.what()));
             }

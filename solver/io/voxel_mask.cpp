@@ -89,6 +89,8 @@ VoxelMask read_voxel_mask_header(const std::filesystem::path& file, const std::s
                                      "(volume fractions)",
                                      where));
     VoxelMask m;
+    m.file = file;
+    m.dataset = dataset;
     m.source = where;
     m.voxels = {int(dims[2]), int(dims[1]), int(dims[0])};
     const double count = double(dims[0]) * double(dims[1]) * double(dims[2]);
@@ -113,8 +115,7 @@ VoxelMask read_voxel_mask_header(const std::filesystem::path& file, const std::s
     return m;
 }
 
-std::int64_t read_voxel_values(VoxelMask& m, const std::filesystem::path& file,
-                               const std::string& dataset, const Box& part) {
+std::int64_t read_voxel_values(VoxelMask& m, const Box& part) {
     const Box whole{{0, 0, 0}, m.voxels};
     if (!whole.contains(part))
         throw InputError(fmt::format("voxel mask {}: voxels [{}, {}) x [{}, {}) x [{}, {}) asked "
@@ -125,7 +126,7 @@ std::int64_t read_voxel_values(VoxelMask& m, const std::filesystem::path& file,
     m.values.assign(std::size_t(part.count()), 0.0);
     if (part.empty()) return -1;
     QuietHdf5 quiet;
-    const OpenMask f = open_mask(file, dataset, m.source);
+    const OpenMask f = open_mask(m.file, m.dataset, m.source);
     Handle space{H5Dget_space(f.dataset.id), H5Sclose};
     const Int3 n = part.size();
     const hsize_t start[3] = {hsize_t(part.lo[2]), hsize_t(part.lo[1]), hsize_t(part.lo[0])};
@@ -149,7 +150,7 @@ std::int64_t read_voxel_values(VoxelMask& m, const std::filesystem::path& file,
 VoxelMask read_voxel_mask(const std::filesystem::path& file, const std::string& dataset,
                           std::int64_t max_voxels) {
     VoxelMask m = read_voxel_mask_header(file, dataset, max_voxels);
-    const std::int64_t bad = read_voxel_values(m, file, dataset, Box{{0, 0, 0}, m.voxels});
+    const std::int64_t bad = read_voxel_values(m, Box{{0, 0, 0}, m.voxels});
     if (bad >= 0)
         throw InputError(fmt::format("voxel mask {}: value {} at voxel {} is not in [0, 1]",
                                      m.source, m.values[std::size_t(bad)], bad));
@@ -224,6 +225,16 @@ MaskMapping check_mask_against_grid(const VoxelMask& m, const GlobalGrid& g,
                                   m.source, m.spacing[0], m.spacing[1], m.spacing[2], unit, g.dx(0),
                                   g.dx(1), g.dx(2), unit);
     return map;
+}
+
+VoxelMask read_voxel_mask_for_grid(const std::filesystem::path& file, const std::string& dataset,
+                                   const GlobalGrid& grid, std::string_view unit,
+                                   MaskMapping* mapping) {
+    VoxelMask m = read_voxel_mask_header(file, dataset);
+    place_on_grid(m, grid, unit);
+    const MaskMapping map = check_mask_against_grid(m, grid, unit);
+    if (mapping) *mapping = map;
+    return m;
 }
 
 Box mask_voxels_for(const VoxelMask& m, const GlobalGrid& g, const LocalBlock& block,

@@ -37,7 +37,9 @@ struct VoxelMask {
     bool placed = true;
     Box held{};               ///< the voxels whose values are held (all, or one rank's part)
     std::vector<real> values; ///< the held voxels, x fastest, in [0, 1]
-    std::string source;       ///< "file:dataset", for messages
+    std::filesystem::path file;
+    std::string dataset;
+    std::string source; ///< "file:dataset", for messages
 
     real at(int i, int j, int k) const {
         const Int3 n = held.size();
@@ -55,12 +57,12 @@ struct VoxelMask {
 VoxelMask read_voxel_mask_header(const std::filesystem::path& file, const std::string& dataset,
                                  std::int64_t max_voxels = std::int64_t(1) << 31);
 
-/// Read the values of the voxels in `part` (within the image) into `mask.held` and
-/// `mask.values`. Returns the flat index (x fastest, over the whole image) of the first value
-/// that is not in [0, 1], or -1 when every value is; the caller reports it (collectively,
-/// when each rank reads its own part). Throws InputError when the file cannot be read.
-std::int64_t read_voxel_values(VoxelMask& mask, const std::filesystem::path& file,
-                               const std::string& dataset, const Box& part);
+/// Read the values of the voxels in `part` (within the image) from the mask's file into
+/// `mask.held` and `mask.values`. Returns the flat index (x fastest, over the whole image)
+/// of the first value that is not in [0, 1], or -1 when every value is; the caller reports
+/// it (collectively, when each rank reads its own part). Throws InputError when the file
+/// cannot be read.
+std::int64_t read_voxel_values(VoxelMask& mask, const Box& part);
 
 /// Header and every value; throws InputError for a value not in [0, 1] as well.
 VoxelMask read_voxel_mask(const std::filesystem::path& file, const std::string& dataset,
@@ -81,6 +83,13 @@ struct MaskMapping {
 /// does not) and say whether it is aligned with the grid.
 MaskMapping check_mask_against_grid(const VoxelMask& mask, const GlobalGrid& grid,
                                     std::string_view length_unit = "m");
+
+/// What a case's mask body needs before any voxel is read: the header, placed on the grid
+/// (place_on_grid) and checked against it (check_mask_against_grid); `mapping`, if given,
+/// receives how it maps.
+VoxelMask read_voxel_mask_for_grid(const std::filesystem::path& file, const std::string& dataset,
+                                   const GlobalGrid& grid, std::string_view length_unit,
+                                   MaskMapping* mapping = nullptr);
 
 /// The voxels that the mapping of `cells` (block-local indices of `block`) reads: what a rank
 /// passes to read_voxel_values. Empty for an empty box.

@@ -174,7 +174,7 @@ TEST(VoxelMask, ARankReadsOnlyTheVoxelsItsCellsCoverAndGetsTheSameFractions) {
     VoxelMask mine = read_voxel_mask_header(p, "wall");
     const Box cells = all.owned();
     const Box need = mask_voxels_for(mine, g, block, cells, 4);
-    EXPECT_EQ(read_voxel_values(mine, p, "wall", need), -1);
+    EXPECT_EQ(read_voxel_values(mine, need), -1);
     EXPECT_LT(mine.values.size(), whole.values.size() / 3);
     mask_volume_fraction(mine, g, block, part, 4);
     for_each_in(cells, [&](int i, int j, int k) { ASSERT_EQ(part(i, j, k), all(i, j, k)); });
@@ -183,9 +183,9 @@ TEST(VoxelMask, ARankReadsOnlyTheVoxelsItsCellsCoverAndGetsTheSameFractions) {
         "partbad.h5", {n, n, n}, {0.5e-6, 0.5e-6, 0.5e-6}, {-0.625e-6, -0.625e-6, -0.625e-6},
         [](int i, int j, int k) { return i == 30 && j == 3 && k == 12 ? 1.5 : 0.0; });
     VoxelMask bad = read_voxel_mask_header(q, "wall");
-    EXPECT_EQ(read_voxel_values(bad, q, "wall", need), 30 + n * (3 + n * 12));
-    EXPECT_EQ(read_voxel_values(bad, q, "wall", Box{{0, 0, 0}, {20, n, n}}), -1);
-    EXPECT_THROW(read_voxel_values(bad, q, "wall", Box{{0, 0, 0}, {n + 1, n, n}}), InputError);
+    EXPECT_EQ(read_voxel_values(bad, need), 30 + n * (3 + n * 12));
+    EXPECT_EQ(read_voxel_values(bad, Box{{0, 0, 0}, {20, n, n}}), -1);
+    EXPECT_THROW(read_voxel_values(bad, Box{{0, 0, 0}, {n + 1, n, n}}), InputError);
 }
 
 TEST(VoxelMask, MessagesCarryTheCasesLengthUnit) {
