@@ -281,8 +281,8 @@ BodyWork MembraneForce::prepare(Body& body, const MembraneLaw& law) {
     if (bending && !body.reference_curvature())
         throw InputError("membrane '" + body.name() +
                          "': a bending modulus needs the body to carry kappa_R");
-    // phi, Gs and kappa_R in one fill (named, not a braced temporary: GCC 12 miscompiles
-    // those inside a coroutine).
+    // phi, Gs and kappa_R in one fill (a named vector: GCC 12 rejects a braced temporary
+    // of one inside a coroutine).
     std::vector<Field*> inputs{&body.phi()};
     for (Field& c : body.tensor().comp)
         inputs.push_back(&c);
