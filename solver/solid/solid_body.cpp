@@ -14,10 +14,16 @@ SolidBody::SolidBody(const BodyConfig& body, const BodyContext& ctx) : BodyPhysi
     if (dt > 0) limits_.push_back({"elastic", dt});
 }
 
+BodyWork SolidBody::prepare_force(Body& body) {
+    if (law_.shear_modulus == 0) co_return;
+    std::vector<Field*> comps; // B's components in one fill
+    for (Field& comp : body.tensor().comp)
+        comps.push_back(&comp);
+    co_await halo_fill(std::move(comps), body.patch());
+}
+
 void SolidBody::add_force(Body& body, VelocityField& force) {
     if (law_.shear_modulus == 0) return;
-    for (Field& comp : body.tensor().comp)
-        ctx_.halos.fill(comp, body.patch());
     add_elastic_force(force, body, law_, ctx_.run.grid, ctx_.dec.block());
 }
 

@@ -20,6 +20,7 @@ class SolidBody final : public BodyPhysics {
     bool carries_tensor() const override { return true; }
     real viscosity() const override { return law_.viscosity; }
     bool adds_force() const override { return law_.shear_modulus != 0; }
+    BodyWork prepare_force(Body& body) override;
     void add_force(Body& body, VelocityField& force) override;
     const SolidLaw& law() const { return law_; }
 
