@@ -96,9 +96,7 @@ void BodySystem::initialise_body(std::size_t i) {
     Field& phi = body.phi();
     const auto shape = make_body_shape(bc); // null for a mask
     if (bc.shape == BodyShape::Mask) {
-        const auto file = std::filesystem::path(bc.mask_file).is_absolute()
-                              ? std::filesystem::path(bc.mask_file)
-                              : cfg_.case_dir / bc.mask_file;
+        const auto file = mask_path(bc, cfg_.case_dir);
         // Each rank reads the voxels its cells cover; a value outside [0, 1] anywhere is
         // reported by every rank (the first one in the image), before anything is written.
         VoxelMask mask;

@@ -6,6 +6,7 @@
 
 #include <algorithm>
 #include <array>
+#include <filesystem>
 #include <string>
 #include <string_view>
 #include <vector>
@@ -193,6 +194,11 @@ std::vector<BodyConfig> read_bodies(TableReader& top, const GlobalGrid& grid,
 /// Keys set for a shape the body does not have (lumen_diameter on a non-tube): checked last,
 /// so a shape changed by hand is reported for what the new shape misses.
 void check_shape_keys(const std::vector<BodyConfig>& bodies);
+/// A mask body's file: mask_file relative to the case folder (an absolute one as it is;
+/// std::filesystem's `/` keeps an absolute right side).
+inline std::filesystem::path mask_path(const BodyConfig& b, const std::filesystem::path& case_dir) {
+    return case_dir / b.mask_file;
+}
 VofConfig read_vof(TableReader& top);
 
 } // namespace efsi

@@ -392,8 +392,7 @@ Config read_config(toml::table& root, const std::filesystem::path& case_dir) {
             const BodyConfig& b = c.bodies[k];
             if (b.shape != BodyShape::Mask) continue;
             namespace fs = std::filesystem;
-            const fs::path file = fs::path(b.mask_file).is_absolute() ? fs::path(b.mask_file)
-                                                                      : case_dir / b.mask_file;
+            const fs::path file = mask_path(b, case_dir);
             std::error_code ec;
             const auto st = fs::status(file, ec);
             if (!fs::exists(st))
