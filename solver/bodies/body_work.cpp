@@ -10,6 +10,13 @@ bool HaloFill::await_ready() const noexcept {
     return fields.empty() || patch->empty();
 }
 
+HaloFill halo_fill(std::span<Field> fields, const Patch& patch) {
+    std::vector<Field*> of;
+    for (Field& f : fields)
+        of.push_back(&f);
+    return HaloFill{std::move(of), &patch, -1};
+}
+
 void BodyWork::start(WorkCursor& cursor) {
     cursor.waiting = {};
     if (!h_) return;
@@ -32,7 +39,7 @@ void resume(WorkCursor& cursor) {
 /// The halo fills the work waits for, in one exchange.
 void fill(const WorkCursor& cursor, const HaloFiller& halos) {
     const std::vector<const Patch*> patches(cursor.fields.size(), cursor.patch);
-    halos.fill(cursor.fields, patches);
+    halos.fill(cursor.fields, patches, cursor.edge_layers);
 }
 
 } // namespace

@@ -30,6 +30,7 @@ class StageTimers;
 struct WorkCursor {
     std::vector<Field*> fields;
     const Patch* patch = nullptr;
+    int edge_layers = -1; ///< layers mirrored at the patch's own edges (HaloFiller::fill)
     std::coroutine_handle<> waiting;
 };
 
@@ -107,22 +108,28 @@ class [[nodiscard]] BodyWork {
 struct HaloFill {
     std::vector<Field*> fields;
     const Patch* patch;
+    int edge_layers;
     bool await_ready() const noexcept;
     void await_suspend(BodyWork::Handle h) noexcept {
         WorkCursor& c = *h.promise().cursor;
         c.fields = std::move(fields);
         c.patch = patch;
+        c.edge_layers = edge_layers;
         c.waiting = h;
     }
     void await_resume() const noexcept {}
 };
 
-inline HaloFill halo_fill(std::vector<Field*> fields, const Patch& patch) {
-    return HaloFill{std::move(fields), &patch};
+/// `edge_layers`: at the patch's own edges (no neighbour to exchange with) only that many
+/// halo layers are mirrored (HaloFiller::fill); negative (the default): all of them.
+inline HaloFill halo_fill(std::vector<Field*> fields, const Patch& patch, int edge_layers = -1) {
+    return HaloFill{std::move(fields), &patch, edge_layers};
 }
 inline HaloFill halo_fill(Field& f, const Patch& patch) {
-    return HaloFill{{&f}, &patch};
+    return HaloFill{{&f}, &patch, -1};
 }
+/// All of `fields` (a tensor's components, say) in one fill.
+HaloFill halo_fill(std::span<Field> fields, const Patch& patch);
 
 /// Run the works (one per body, in the same body order on every rank) in rounds: each runs
 /// until it waits for halos or ends, then each waiting work's fills are made (one

@@ -58,18 +58,19 @@ void for_plane_pair(Field& f, int d, int to, int from, Op&& op) {
 /// The x ghosts of a patch field at its non-exchanged ends, every layer of both ends in one
 /// pass over the rows (layer by layer, as for_plane_pair does for y and z, each pass would
 /// touch every row's first and last cache lines again): ghost l (0 nearest) takes the value
-/// of the owned point l in from that end, the last owned point where the patch is thinner.
-void mirror_x_ends(Field& f, bool low, bool high) {
+/// of the owned point l in from that end, the last owned point where the patch is thinner;
+/// only the first `layers` ghosts.
+void mirror_x_ends(Field& f, bool low, bool high, int layers) {
     const Int3& e = f.extent();
-    const int n = f.cells()[0], g = f.halo()[0];
+    const int n = f.cells()[0], h = f.halo()[0], g = std::min(h, layers);
     real* const a = f.data().data();
     const std::ptrdiff_t rows = std::ptrdiff_t(e[1]) * e[2];
     for (std::ptrdiff_t r = 0; r < rows; ++r) {
         real* row = a + r * e[0];
         for (int l = 0; l < g; ++l) {
             const int m = std::min(l, n - 1);
-            if (low) row[g - 1 - l] = row[g + m];
-            if (high) row[g + n + l] = row[g + n - 1 - m];
+            if (low) row[h - 1 - l] = row[h + m];
+            if (high) row[h + n + l] = row[h + n - 1 - m];
         }
     }
 }
@@ -127,7 +128,9 @@ void HaloFiller::fill(Field& f, const Patch& patch) const {
     fill(one, of);
 }
 
-void HaloFiller::fill(std::span<Field* const> fields, std::span<const Patch* const> patches) const {
+void HaloFiller::fill(std::span<Field* const> fields, std::span<const Patch* const> patches,
+                      int edge_layers) const {
+    if (edge_layers < 0) edge_layers = std::numeric_limits<int>::max();
     std::vector<Field*> live;
     std::vector<const Patch*> live_patch;
     for (std::size_t q = 0; q < fields.size(); ++q)
@@ -147,14 +150,14 @@ void HaloFiller::fill(std::span<Field* const> fields, std::span<const Patch* con
             const Patch& patch = *live_patch[q];
             if (d == 0) {
                 if (!patch.exchange[0][0] || !patch.exchange[0][1])
-                    mirror_x_ends(f, !patch.exchange[0][0], !patch.exchange[0][1]);
+                    mirror_x_ends(f, !patch.exchange[0][0], !patch.exchange[0][1], edge_layers);
                 continue;
             }
             const Int3 n = f.cells();
             const Int3 h = f.halo();
             for (int side = 0; side < 2; ++side) {
                 if (patch.exchange[d][side]) continue;
-                for (int l = 0; l < h[d]; ++l) {
+                for (int l = 0; l < std::min(h[d], edge_layers); ++l) {
                     // Storage indices along d (from the first halo layer) of the ghost and
                     // of the owned point it mirrors.
                     const int m = std::min(l, n[d] - 1);

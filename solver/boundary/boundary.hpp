@@ -62,7 +62,13 @@ class HaloFiller {
     /// each direction's messages of all of them are posted before any is waited for
     /// (Decomposition::exchange_all), so a rank waits once per direction, not per field.
     /// Every rank must pass the fields in the same order.
-    void fill(std::span<Field* const> fields, std::span<const Patch* const> patches) const;
+    /// `edge_layers`: at a patch's own edge (no neighbour across it, a wall included) only
+    /// the first `edge_layers` halo layers mirror the owned values; the deeper ones keep
+    /// what they held (for wide halos whose readers need the neighbours' values but, at
+    /// the patch's edge, only a stencil's width: NormalExtension). Negative (the default):
+    /// every layer.
+    void fill(std::span<Field* const> fields, std::span<const Patch* const> patches,
+              int edge_layers = -1) const;
     /// Velocity: wall rules for normal and tangential components.
     void fill(VelocityField& v) const;
     /// Velocity, each component's halos along its own direction only, at the owned

@@ -537,10 +537,7 @@ BodyWork MembraneForce::prepare_bending(Body& body) {
         }
         ++bending_cells_;
     }
-    std::vector<Field*> q;
-    for (int d = 0; d < dim; ++d)
-        q.push_back(&q_[d]);
-    co_await halo_fill(std::move(q), patch);
+    co_await halo_fill(std::span(q_.data(), std::size_t(dim)), patch);
 }
 
 void MembraneForce::scatter_bending(const Body& body, VelocityField& force) const {

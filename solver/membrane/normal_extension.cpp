@@ -116,7 +116,15 @@ BodyWork NormalExtension::prepare(Body& body, const std::vector<const Field*>& f
     }
     for (int s = 0; s < ncomp; ++s)
         wide.push_back(&src_[s]);
-    co_await halo_fill(std::move(wide), body.patch());
+    const Patch& patch = body.patch();
+    for (int d = 0; d < 3; ++d) {
+        const bool along = d < dim;
+        const int lo_layers = !along ? 0 : patch.exchange[d][0] ? wide_halo_ : kEdgeLayers;
+        const int hi_layers = !along ? 0 : patch.exchange[d][1] ? wide_halo_ : kEdgeLayers;
+        filled_lo_[d] = phi.begin()[d] - std::min(lo_layers, wide_halo_);
+        filled_hi_[d] = phi.begin()[d] + phi.cells()[d] - 1 + std::min(hi_layers, wide_halo_);
+    }
+    co_await halo_fill(std::move(wide), patch, kEdgeLayers);
 }
 
 real NormalExtension::cell_coordinate(real x, int d) const {
@@ -194,18 +202,39 @@ real NormalExtension::interpolate_cubic(const Field& f, const Real3& x) const {
     return r;
 }
 
-real NormalExtension::reachable_foot_distance(const Real3& x, real s, const Real3& n, real gradient,
-                                              int half) const {
-    const real to_foot = foot_distance(s, gradient);
-    if (!newton_foot_) return to_foot;
-    for (int d = 0; d < halos_.decomposition().grid().dim; ++d) {
-        // The foot point's coordinate as the interpolation will form it (y = x - d n).
-        const int base = int(std::floor(cell_coordinate(x[d] - to_foot * n[d], d)));
-        const int lo = psi_wide_.begin()[d] - psi_wide_.halo()[d];
-        const int hi = psi_wide_.begin()[d] + psi_wide_.cells()[d] + psi_wide_.halo()[d] - 1;
-        if (base - (half - 1) < lo || base + half > hi) return s;
+Real3 NormalExtension::foot_point(const Real3& x, real s, const Real3& n, real gradient, int half,
+                                  real& to_foot) const {
+    const Decomposition& dec = halos_.decomposition();
+    const GlobalGrid& g = dec.grid();
+    const int dim = g.dim;
+    // Whether the stencil of the point x - d n (its base floor(u) as the interpolation forms
+    // it) lies in the filled cells along each axis.
+    auto fits = [&](real d) {
+        for (int e = 0; e < dim; ++e) {
+            const int base = int(std::floor(cell_coordinate(x[e] - d * n[e], e)));
+            if (base - (half - 1) < filled_lo_[e] || base + half > filled_hi_[e]) return false;
+        }
+        return true;
+    };
+    to_foot = foot_distance(s, gradient);
+    bool inside = fits(to_foot);
+    if (!inside && newton_foot_) {
+        to_foot = s;
+        inside = fits(s);
     }
-    return to_foot;
+    Real3 y = x;
+    for (int e = 0; e < dim; ++e)
+        y[e] -= to_foot * n[e];
+    if (inside) return y;
+    for (int e = 0; e < dim; ++e) {
+        const real u = cell_coordinate(y[e], e);
+        const int base = int(std::floor(u));
+        real clamped = u;
+        if (base - (half - 1) < filled_lo_[e]) clamped = filled_lo_[e] + (half - 1);
+        if (base + half > filled_hi_[e]) clamped = filled_hi_[e] - half;
+        y[e] = g.origin[e] + (clamped + dec.block().offset[e] + 0.5) * g.dx(e);
+    }
+    return y;
 }
 
 bool NormalExtension::foot_on_surface(const Trilinear& at) const {
@@ -267,10 +296,9 @@ BodyWork NormalExtension::apply_tensor(Body& body, real core_cells, const Field*
                 for (int b = 0; b < 3; ++b)
                     T[a][b] = G.value(a, b, p);
         } else {
-            Real3 y = position(g, block, Location::Cell, i, j, k);
-            const real to_foot = reachable_foot_distance(y, s, n, gradient, 1);
-            for (int d = 0; d < dim; ++d)
-                y[d] -= to_foot * n[d];
+            real to_foot = 0;
+            const Real3 y =
+                foot_point(position(g, block, Location::Cell, i, j, k), s, n, gradient, 1, to_foot);
             // One set of weights serves every component (src_ fields share one layout).
             const Trilinear at = trilinear_at(y);
             if (weight && !foot_on_surface(at)) {
@@ -328,10 +356,7 @@ BodyWork NormalExtension::apply_tensor(Body& body, real core_cells, const Field*
             }
         }
     });
-    std::vector<Field*> comps;
-    for (Field& c : G.comp)
-        comps.push_back(&c);
-    co_await halo_fill(std::move(comps), body.patch());
+    co_await halo_fill(G.comp, body.patch());
 }
 
 void NormalExtension::apply_reference_map(Body& body, bool whole_band, const Shape* reference) {
@@ -363,10 +388,8 @@ void NormalExtension::apply_reference_map(Body& body, bool whole_band, const Sha
         if (!normal_at(p, s, n, gradient)) return;
         const Real3 x = position(g, block, Location::Cell, i, j, k);
         if (whole_band || std::abs(s) > core) {
-            Real3 y = x;
-            const real to_foot = reachable_foot_distance(x, s, n, gradient, cubic_map_ ? 2 : 1);
-            for (int d = 0; d < dim; ++d)
-                y[d] -= to_foot * n[d];
+            real to_foot = 0;
+            const Real3 y = foot_point(x, s, n, gradient, cubic_map_ ? 2 : 1, to_foot);
             // A foot point off the surface (a thin body's middle, where psi's gradient turns)
             // has no map to copy: the cell keeps its transported X.
             if (foot_on_surface(trilinear_at(y)))

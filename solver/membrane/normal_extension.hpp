@@ -16,7 +16,8 @@
 // psi = eps atanh(1 - 2 phi) (positive outside), n = grad psi / |grad psi| by central
 // differences. The interpolation reads cells up to ceil(reach) + 1 cells away (the reference
 // map's cubic stencil; trilinear: ceil(reach)), so the copy it reads carries ceil(reach) + 2
-// halo layers: every rank's block must be that wide.
+// halo layers: every rank's block must be that wide. At a patch's own edge (no neighbour)
+// only kEdgeLayers of them are filled: the foot points lie on the surface, well inside.
 #pragma once
 
 #include "bodies/body.hpp"
@@ -71,6 +72,13 @@ class NormalExtension {
     /// The default reach for a smoothing width of `eps_cells` cells.
     static real default_reach(real eps_cells);
 
+    /// The halo layers of the wide copies filled at a patch's own edges (no neighbour across
+    /// it): the foot points lie on the surface, which the patch keeps its margin and the
+    /// smoothed profile's tails away from such an edge, and the cubic stencil reads two
+    /// points beyond its base (HaloFiller::fill's `edge_layers`; docs/method.md, "The wide
+    /// copies' edges").
+    static constexpr int kEdgeLayers = 3;
+
   private:
     /// apply() with a core of `core_cells`; with `weight`, Gs holds w Gs and the copy is
     /// the mean over the cells with w = 1 of each foot point's stencil; with `area` (w J), each
@@ -112,12 +120,15 @@ class NormalExtension {
     /// The distance from p's centre to its foot point along -n: psi, or psi / |grad psi|
     /// (newton_foot).
     real foot_distance(real s, real gradient) const { return newton_foot_ ? s / gradient : s; }
-    /// foot_distance(), unless the foot point x - d n it gives lies where the interpolation's
-    /// stencil (`half` = 1: trilinear, 2: cubic) would leave the wide-halo copy: then psi.
-    /// The Newton distance psi / |grad psi| can be up to twice the reach (|grad psi| >= 1/2)
-    /// where the wide halo holds one reach; psi's own foot point always fits (constructor).
-    real reachable_foot_distance(const Real3& x, real s, const Real3& n, real gradient,
-                                 int half) const;
+    /// The foot point x - d n of the cell at x: d = foot_distance(), or psi where that
+    /// point's stencil (`half` = 1: trilinear, 2: cubic) would leave the copy's filled cells
+    /// (the Newton distance psi / |grad psi| can be up to twice the reach, |grad psi| >= 1/2,
+    /// where the wide halo holds one reach); `to_foot` is set to the d taken. A point whose
+    /// stencil leaves the filled cells even so is moved, along each axis, onto the last one
+    /// whose stencil is filled: at a patch's edge without neighbour only kEdgeLayers are
+    /// filled, and a band cell's psi reaches further only where psi is far from a distance.
+    Real3 foot_point(const Real3& x, real s, const Real3& n, real gradient, int half,
+                     real& to_foot) const;
 
     const HaloFiller& halos_;
     real eps_cells_;
@@ -127,6 +138,9 @@ class NormalExtension {
     bool area_filter_;
     bool newton_foot_;
     int wide_halo_;
+    /// The cells of the wide copies filled by prepare() (block-local, inclusive): the wide
+    /// halo across a neighbour's boundary, kEdgeLayers at the patch's own edges.
+    std::array<int, 3> filled_lo_{}, filled_hi_{};
     Field psi_;                 ///< eps atanh(1 - 2 phi), halo 1
     std::vector<Field> src_;    ///< Gs (or X - x) after the transport, wide halos
     Field psi_wide_;            ///< psi with the wide halo (foot points are checked on it)

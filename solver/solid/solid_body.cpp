@@ -16,10 +16,7 @@ SolidBody::SolidBody(const BodyConfig& body, const BodyContext& ctx) : BodyPhysi
 
 BodyWork SolidBody::prepare_force(Body& body) {
     if (law_.shear_modulus == 0) co_return;
-    std::vector<Field*> comps; // B's components in one fill
-    for (Field& comp : body.tensor().comp)
-        comps.push_back(&comp);
-    co_await halo_fill(std::move(comps), body.patch());
+    co_await halo_fill(body.tensor().comp, body.patch()); // B's components in one fill
 }
 
 void SolidBody::add_force(Body& body, VelocityField& force) {

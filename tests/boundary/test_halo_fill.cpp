@@ -338,3 +338,69 @@ TEST(HaloFillPatches, ManyAtOnceEqualsOneByOne) {
         EXPECT_EQ(global_max(worst), 0.0) << c.name;
     }
 }
+
+// `edge_layers`: at a patch's own edges (no neighbour across them) only that many halo layers
+// mirror the owned values and the deeper ones keep what they held; across a rank boundary
+// or the periodic wrap every layer is exchanged as before. Checked against the full fill on
+// patches with edges, across rank boundaries and wrapping x, halos 4 wide.
+TEST(HaloFillPatches, EdgeLayersMirrorOnlyThatDeepAtThePatchsOwnEdges) {
+    constexpr int kWide = 4, kEdge = 2;
+    constexpr real kUntouched = -7.25;
+    for (const HaloCase& c : setups()) {
+        Decomposition dec(MPI_COMM_WORLD, c.grid, periodic_directions(c.bc), c.ranks);
+        HaloFiller halos(dec, c.bc);
+        const Int3 n = c.grid.cells;
+        const int dim = c.grid.dim;
+        bool thin = false;
+        for (int d = 0; d < dim; ++d)
+            thin = thin || dec.block().cells[d] < kWide;
+        if (thin) continue; // a block must hold the wide halo (as NormalExtension asks)
+        const std::vector<Box> boxes = {Box{{0, 0, 0}, n},
+                                        Box{{1, 1, 0}, {n[0] - 1, n[1] - 2, dim == 3 ? n[2] : 1}}};
+        long deep_checked = 0;
+        for (const Box& box : boxes) {
+            const Patch p = make_patch(box, dec);
+            Field full =
+                Field::on_patch("full", Location::Cell, p.local.lo, p.local.size(), dim, kWide);
+            full.fill(kUntouched);
+            for_each_in(p.local, [&](int i, int j, int k) {
+                const Int3 q{i + dec.block().offset[0], j + dec.block().offset[1],
+                             k + dec.block().offset[2]};
+                full(i, j, k) = smooth(-1, q);
+            });
+            Field edge = full;
+            halos.fill(full, p);
+            Field* fields[] = {&edge};
+            const Patch* of[] = {&p};
+            halos.fill(fields, of, kEdge);
+            if (p.empty()) continue; // (after the collective fills)
+            // Within kEdge of the owned box along every direction without an exchange the
+            // two fills agree; a point deeper than kEdge past an edge is untouched.
+            const Int3 lo = edge.begin(), hi = edge.begin() + edge.cells();
+            real worst = 0;
+            bool untouched = true;
+            const Int3 h = edge.halo();
+            for (int k = lo[2] - h[2]; k < hi[2] + h[2]; ++k)
+                for (int j = lo[1] - h[1]; j < hi[1] + h[1]; ++j)
+                    for (int i = lo[0] - h[0]; i < hi[0] + h[0]; ++i) {
+                        const Int3 q{i, j, k};
+                        bool deep = false;
+                        for (int d = 0; d < dim; ++d) {
+                            const int below = lo[d] - q[d], above = q[d] - (hi[d] - 1);
+                            deep = deep || (below > kEdge && !p.exchange[d][0]) ||
+                                   (above > kEdge && !p.exchange[d][1]);
+                        }
+                        if (deep) {
+                            untouched = untouched && edge(q) == kUntouched;
+                            ++deep_checked;
+                        } else {
+                            worst = std::max(worst, std::abs(edge(q) - full(q)));
+                        }
+                    }
+            EXPECT_EQ(worst, 0.0) << c.name;
+            EXPECT_TRUE(untouched) << c.name;
+        }
+        // Every setup has patch edges without a neighbour (the smaller box, and the walls).
+        EXPECT_GT(global_max(real(deep_checked)), 0.0) << c.name;
+    }
+}

@@ -151,12 +151,52 @@ TEST(NormalExtension, ReproducesAFieldConstantAlongNormalsToSecondOrder) {
     }
 }
 
+namespace {
+
+/// A 2D disc on the body's patch: phi a tanh profile drawn out by `stretch` (psi =
+/// distance / stretch), Gs the constant tensor A in every cell.
+void set_disc_2d(Body& body, const GridSetup& s, const Real3& centre, real radius, real stretch) {
+    if (body.patch().empty()) return;
+    const real h = s.g.dx(0);
+    for_each_in(body.patch().local, [&](int i, int j, int k) {
+        const Real3 x = position(s.g, s.dec->block(), Location::Cell, i, j, k);
+        const real sd = std::hypot(x[0] - centre[0], x[1] - centre[1]) - radius;
+        const real v = 0.5 * (1 - std::tanh(sd / (stretch * h)));
+        body.phi()(i, j, k) = v < 1e-8 ? 0.0 : v;
+        for (int a = 0; a < 2; ++a)
+            for (int b = a; b < 2; ++b)
+                body.tensor().comp[SymmetricTensorField::slot(a, b, 2)](i, j, k) = a_entry(a, b, 2);
+    });
+}
+
+/// psi = h atanh(1 - 2 phi) of a 2D body (smoothing width one cell).
+real psi_2d(const Body& body, int i, int j, real h) {
+    const real v = std::clamp(1 - 2 * body.phi()(i, j, 0), -1 + 1e-15, 1 - 1e-15);
+    return h * std::atanh(v);
+}
+
+/// The largest entry of |Gs - P A P| at a 2D cell, P = I - n n.
+real tangential_a_error_2d(const Body& body, const Int3& p, const real (&n)[3]) {
+    real worst = 0;
+    for (int a = 0; a < 2; ++a)
+        for (int b = 0; b < 2; ++b) {
+            real v = 0;
+            for (int c = 0; c < 3; ++c)
+                for (int e = 0; e < 3; ++e)
+                    v += ((a == c) - n[a] * n[c]) * a_entry(c, e, 2) * ((e == b) - n[e] * n[b]);
+            worst = std::max(worst, std::abs(body.tensor().value(a, b, p) - v));
+        }
+    return worst;
+}
+
+} // namespace
+
 // A drawn-out profile (|grad psi| = 1 / 1.9) with Newton foot points: the foot of a band cell
 // is psi / |grad psi| away, up to 1.9 reaches, while the wide-halo copy holds one reach past
 // the rank's block. On two ranks the grid is split in y at 40 cells and the disc's top is at
 // 29, so the upper block's lowest cells (11-14 cells above it, within the band) have their
 // Newton foot below the reach of their copy (10 cells): they must fall back to psi's own foot
-// point (NormalExtension::reachable_foot_distance) instead of reading outside the copy (a
+// point (NormalExtension::foot_point) instead of reading outside the copy (a
 // wrapped index: memory before the field's storage). Gs is the same constant tensor A in
 // every cell, so any foot point inside the copy interpolates A exactly and every band cell
 // must end as P A P, P the projection on the tangent of psi's own (central-difference) normal.
@@ -166,25 +206,11 @@ TEST(NormalExtension, NewtonFootBeyondTheWideHaloFallsBackToPsisFoot) {
     GridSetup s = efsi::test::make_setup(dim, {48, 80, 1}, h, BoundaryType::Periodic);
     Body body("disc", BodyKind::Membrane, false, dim);
     body.allocate(make_patch(Box{{0, 0, 0}, s.g.cells}, *s.dec));
-    const real stretch = 1.9, radius = 4 * h;
-    const Real3 centre{0.0, s.g.origin[1] + 25 * h, 0.0};
-    for_each_in(body.patch().local, [&](int i, int j, int k) {
-        const Real3 x = position(s.g, s.dec->block(), Location::Cell, i, j, k);
-        const real sd = std::hypot(x[0] - centre[0], x[1] - centre[1]) - radius;
-        const real v = 0.5 * (1 - std::tanh(sd / (stretch * h)));
-        body.phi()(i, j, k) = v < 1e-8 ? 0.0 : v;
-        for (int a = 0; a < 2; ++a)
-            for (int b = a; b < 2; ++b)
-                body.tensor().comp[SymmetricTensorField::slot(a, b, dim)](i, j, k) =
-                    a_entry(a, b, dim);
-    });
+    set_disc_2d(body, s, Real3{0.0, s.g.origin[1] + 25 * h, 0.0}, 4 * h, 1.9);
     s.halos->fill(body.phi(), body.patch());
     NormalExtension ext(*s.halos, "disc", 1.0, 1.0, -1, true, false, /*newton_foot=*/true);
     run_now(ext.apply(body), *s.halos);
-    auto psi = [&](int i, int j) {
-        const real v = std::clamp(1 - 2 * body.phi()(i, j, 0), -1 + 1e-15, 1 - 1e-15);
-        return h * std::atanh(v);
-    };
+    auto psi = [&](int i, int j) { return psi_2d(body, i, j, h); };
     real worst = 0;
     long copied = 0;
     for_each_in(body.patch().local, [&](int i, int j, int k) {
@@ -194,16 +220,53 @@ TEST(NormalExtension, NewtonFootBeyondTheWideHaloFallsBackToPsisFoot) {
         if (std::abs(psi(i, j)) > ext.reach_cells() * h || g2 < 0.25) return; // G = I there
         const real n[3] = {gx / std::sqrt(g2), gy / std::sqrt(g2), 0.0};
         ++copied;
-        for (int a = 0; a < 2; ++a)
-            for (int b = 0; b < 2; ++b) {
-                real v = 0;
-                for (int c = 0; c < 3; ++c)
-                    for (int e = 0; e < 3; ++e)
-                        v += ((a == c) - n[a] * n[c]) * a_entry(c, e, dim) *
-                             ((e == b) - n[e] * n[b]);
-                worst = std::max(worst, std::abs(body.tensor().value(a, b, {i, j, k}) - v));
-            }
+        worst = std::max(worst, tangential_a_error_2d(body, {i, j, k}, n));
     });
+    EXPECT_GT(efsi::test::global_max(real(copied)), 100.0);
+    EXPECT_LT(efsi::test::global_max(worst), 1e-12);
+}
+
+// At a patch's own edge (no neighbour across it) the wide copies hold only kEdgeLayers of
+// mirrored values. A patch whose lower edge cuts through a disc (radius 6 cells, centre 1.4
+// cells above the edge row's centre) puts the lower surface, where the feet of the inside
+// cells next to the edge lie, 4.6 cells past the edge, beyond the mirrored layers (the edge row
+// itself has a mirrored, halved gradient: no normal). Those feet must be moved onto the filled
+// cells (NormalExtension::foot_point), never read the unfilled ones (zeros): Gs is the constant A
+// on the patch, so every band cell must end as P A P.
+TEST(NormalExtension, FootPointsPastAnEdgesMirroredLayersStayOnTheFilledCells) {
+    const real h = 0.05;
+    const int dim = 2;
+    GridSetup s = efsi::test::make_setup(dim, {48, 80, 1}, h, BoundaryType::Periodic);
+    const int cj = 25, ci = 24;
+    Body body("disc", BodyKind::Membrane, false, dim);
+    body.allocate(make_patch(Box{{4, cj, 0}, {44, cj + 24, 1}}, *s.dec));
+    const LocalBlock& blk = s.dec->block();
+    if (blk.offset[1] <= cj && cj < blk.offset[1] + blk.cells[1]) {
+        EXPECT_FALSE(body.patch().exchange[1][0]); // the lower edge is the patch's own
+    }
+    set_disc_2d(body, s, Real3{s.g.origin[0] + (ci + 0.5) * h, s.g.origin[1] + (cj + 1.9) * h, 0.0},
+                6 * h, 1.0);
+    s.halos->fill(body.phi(), body.patch());
+    NormalExtension ext(*s.halos, "disc", 1.0, 1.0);
+    run_now(ext.apply(body), *s.halos);
+    auto psi = [&](int i, int j) { return psi_2d(body, i, j, h); };
+    real worst = 0;
+    long copied = 0, past_the_edge = 0;
+    if (!body.patch().empty())
+        for_each_in(body.patch().local, [&](int i, int j, int k) {
+            const real gx = (psi(i + 1, j) - psi(i - 1, j)) / (2 * h);
+            const real gy = (psi(i, j + 1) - psi(i, j - 1)) / (2 * h);
+            const real g2 = gx * gx + gy * gy;
+            if (std::abs(psi(i, j)) > ext.reach_cells() * h || g2 < 0.25) return;
+            if (std::abs(psi(i, j)) <= ext.core_cells() * h) return; // the core keeps its own
+            const real n[3] = {gx / std::sqrt(g2), gy / std::sqrt(g2), 0.0};
+            ++copied;
+            // The foot's row, below the edge by more than the mirrored layers.
+            const real foot_j = j + blk.offset[1] - psi(i, j) / h * n[1];
+            if (foot_j < cj - NormalExtension::kEdgeLayers) ++past_the_edge;
+            worst = std::max(worst, tangential_a_error_2d(body, {i, j, k}, n));
+        });
+    EXPECT_GT(efsi::test::global_max(real(past_the_edge)), 0.0);
     EXPECT_GT(efsi::test::global_max(real(copied)), 100.0);
     EXPECT_LT(efsi::test::global_max(worst), 1e-12);
 }
