@@ -349,8 +349,42 @@ std::vector<RowSpans> band_spans(const Field& phi, const Box& box, real lo,
             to = in;
             return;
         }
-        const int a = d == 0 ? 1 : 0, b = d == 2 ? 1 : 2; // the other two directions
         const std::size_t st[3] = {1, sy, sz};
+        if (d > 0) {
+            // Along y (z): the window's count of every cell of a row (plane) at once, rows
+            // (planes) added and removed whole, so the inner loops run along x, unit stride.
+            // A count never exceeds the window's 2 r + 1 cells, so a byte holds it.
+            const std::size_t len = st[d]; // cells of one row (plane)
+            const int outer = d == 1 ? n[2] : 1;
+            std::vector<unsigned char> count(len);
+            for (int q2 = 0; q2 < outer; ++q2) {
+                const unsigned char* src = in.data() + std::size_t(q2) * sz;
+                unsigned char* dst = to.data() + std::size_t(q2) * sz;
+                std::fill(count.begin(), count.end(), 0);
+                auto add = [&](int q, int sign) {
+                    const unsigned char* s = src + std::size_t(q) * st[d];
+                    unsigned char* c = count.data();
+                    if (sign > 0)
+                        for (std::size_t i = 0; i < len; ++i)
+                            c[i] += s[i];
+                    else
+                        for (std::size_t i = 0; i < len; ++i)
+                            c[i] -= s[i];
+                };
+                for (int q = 0; q < std::min(r[d], n[d]); ++q)
+                    add(q, 1);
+                for (int q = 0; q < n[d]; ++q) {
+                    if (q + r[d] < n[d]) add(q + r[d], 1);
+                    if (q - r[d] - 1 >= 0) add(q - r[d] - 1, -1);
+                    unsigned char* o = dst + std::size_t(q) * st[d];
+                    const unsigned char* c = count.data();
+                    for (std::size_t i = 0; i < len; ++i)
+                        o[i] = c[i] > 0;
+                }
+            }
+            return;
+        }
+        const int a = 1, b = 2; // the other two directions
         for (int q2 = 0; q2 < n[b]; ++q2)
             for (int q1 = 0; q1 < n[a]; ++q1) {
                 const unsigned char* src =
