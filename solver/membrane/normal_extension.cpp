@@ -278,7 +278,7 @@ BodyWork NormalExtension::apply_tensor(Body& body, real core_cells, const Field*
     const int dim = g.dim;
     const int ncomp = int(G.comp.size());
     const real core = core_cells * g.dx(0);
-    for_each_in(body.phi().owned(), [&](int i, int j, int k) {
+    auto cell = [&](int i, int j, int k) {
         const Int3 p{i, j, k};
         real s = 0, gradient = 1;
         Real3 n;
@@ -355,7 +355,31 @@ BodyWork NormalExtension::apply_tensor(Body& body, real core_cells, const Field*
                     c(p) *= scale;
             }
         }
-    });
+    };
+    // Row by row: most cells of a patch lie beyond the reach, where normal_at finds no
+    // normal and the copy is the identity; they are written through row pointers, the
+    // others by `cell`.
+    const Box own = body.phi().owned();
+    const int nx = own.hi[0] - own.lo[0];
+    const real far = reach_cells_ * g.dx(0); // normal_at's test
+    std::array<real*, 6> row{};
+    std::array<real, 6> identity{};
+    for (int a = 0; a < dim; ++a)
+        identity[SymmetricTensorField::slot(a, a, dim)] = 1;
+    for (int k = own.lo[2]; k < own.hi[2]; ++k)
+        for (int j = own.lo[1]; j < own.hi[1]; ++j) {
+            const real* s = &psi_(own.lo[0], j, k);
+            for (int s2 = 0; s2 < ncomp; ++s2)
+                row[s2] = &G.comp[s2](own.lo[0], j, k);
+            for (int i = 0; i < nx; ++i) {
+                if (std::abs(s[i]) > far) {
+                    for (int s2 = 0; s2 < ncomp; ++s2)
+                        row[s2][i] = identity[s2];
+                    continue;
+                }
+                cell(own.lo[0] + i, j, k);
+            }
+        }
     co_await halo_fill(G.comp, body.patch());
 }
 
