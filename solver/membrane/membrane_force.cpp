@@ -426,13 +426,16 @@ BodyWork MembraneForce::prepare_bending(Body& body) {
     // kappa = -P H P / |grad psi| the curvature tensor of the level surface through the
     // cell (H by central second differences of psi) and P_b the projection on the
     // directions that bend (P in 3D; its in-plane block in 2D).
-    for (const Int3& c : band_) {
+    band_grad_.resize(band_.size());
+    for (std::size_t q = 0; q < band_.size(); ++q) {
+        const Int3& c = band_[q];
         band_mask_(c) = 1;
         const Real3 gr = gradient_at(psi_, g_, c, GradientStencil::Isotropic);
         real mag = 0;
         for (int a = 0; a < dim; ++a)
             mag += gr[a] * gr[a];
         mag = std::sqrt(mag);
+        band_grad_[q] = mag;
         Real3 n{0, 0, 0};
         for (int a = 0; a < dim; ++a)
             n[a] = gr[a] / mag;
@@ -483,7 +486,8 @@ BodyWork MembraneForce::prepare_bending(Body& body) {
     const real w = settings_.bending_width * h;
     const bool cosine = settings_.bending_kernel == MembraneForceSettings::BendingKernel::Cosine;
     const real pi = std::numbers::pi;
-    for (const Int3& c : band_) {
+    for (std::size_t qi = 0; qi < band_.size(); ++qi) {
+        const Int3& c = band_[qi];
         if (!inside(patch.local, c)) continue;
         const real s = psi_(c);
         if (cosine && std::abs(s) >= w) continue;
@@ -516,12 +520,8 @@ BodyWork MembraneForce::prepare_bending(Body& body) {
                     div[j] += P[k][l] * (m_.value(k, j, cp) - m_.value(k, j, cm)) / (2 * h);
             }
         }
-        // |grad psi| for the coarea weight (the isotropic gradient, as in pass A).
-        const Real3 gr = gradient_at(psi_, g_, c, GradientStencil::Isotropic);
-        real mag = 0;
-        for (int a = 0; a < dim; ++a)
-            mag += gr[a] * gr[a];
-        mag = std::sqrt(mag);
+        // |grad psi| for the coarea weight (pass A's isotropic gradient).
+        const real mag = band_grad_[qi];
         real delta = 0;
         if (cosine) {
             delta = (1 + std::cos(pi * s / w)) / (2 * w) * mag;

@@ -153,6 +153,8 @@ class MembraneForce {
     SymmetricTensorField stress_;
     Box stress_box_{};
     std::vector<Int3> band_;
+    /// |grad psi| (isotropic) of each band_ cell, from bending's pass A for its pass B.
+    std::vector<real> band_grad_;
     // Pass-1 scratch on the patch plus two layers: stencil values (psi or phi) and band flags.
     std::vector<real> work_value_;
     std::vector<unsigned char> work_ok_, work_tmp_;
