@@ -29,6 +29,18 @@ inline std::array<real, 4> catmull_rom_slope(real t) {
             0.5 * (3 * t2 - 2 * t)};
 }
 
+/// f's values on the points of `box` (block-local, within both fields' storage) into `to`,
+/// row by row.
+void copy_rows(const Field& f, Field& to, const Box& box) {
+    if (box.empty()) return;
+    const int nx = box.hi[0] - box.lo[0];
+    for (int k = box.lo[2]; k < box.hi[2]; ++k)
+        for (int j = box.lo[1]; j < box.hi[1]; ++j) {
+            const real* from = f.data().data() + f.index(box.lo[0], j, k);
+            std::copy(from, from + nx, to.data().data() + to.index(box.lo[0], j, k));
+        }
+}
+
 struct ValueAndGradient {
     real value = 0;
     Real3 gradient{0, 0, 0};
@@ -97,10 +109,10 @@ void SurfaceVelocity::load(const VelocityField& u) {
     if (wide_.dim != dim || wide_[0].data().empty())
         wide_ = VelocityField("u_wide", dec.block(), dim, wide_halo_);
     for (int c = 0; c < dim; ++c)
-        for_each_in(u[c].owned(), [&](int i, int j, int k) { wide_[c](i, j, k) = u[c](i, j, k); });
+        copy_rows(u[c], wide_[c], u[c].owned());
     halos_.fill(wide_); // collective
-    out_ = u;           // faces away from every band keep u (halos included)
-    changed_ = Box{};
+    // The layout of the result; compute() sets u on each body's own region of it.
+    if (out_.dim != dim || out_[0].data().empty()) out_ = u;
 }
 
 const VelocityField& SurfaceVelocity::compute(const Body& body, real eps_cells, real reach_cells) {
@@ -112,11 +124,22 @@ const VelocityField& SurfaceVelocity::compute(const Body& body, real eps_cells, 
         throw std::logic_error("SurfaceVelocity::compute before load");
     if (reach_cells > max_reach_)
         throw std::logic_error("SurfaceVelocity::compute: reach beyond the halo's");
-    // The previous body's faces get u back (wide_ holds u on the owned faces); the halo
-    // fill below brings the neighbours' restored faces.
+    // u (which wide_ holds on the owned faces) on the body's patch and three layers around
+    // it, the faces its transport reads (the patch's faces and one layer past them), on every
+    // rank's part of that box, so that the halos the fill below brings hold u there too. Out
+    // of it the faces keep what an earlier body left: nothing reads them.
+    Box region = body.patch().global;
+    for (int d = 0; d < dim; ++d) {
+        region.lo[d] -= 3;
+        region.hi[d] += 3;
+    }
+    const Box own_global{block.offset,
+                         {block.offset[0] + block.cells[0], block.offset[1] + block.cells[1],
+                          block.offset[2] + block.cells[2]}};
+    region = shifted(intersect(region, own_global),
+                     {-block.offset[0], -block.offset[1], -block.offset[2]});
     for (int c = 0; c < dim; ++c)
-        for_each_in(changed_, [&](int i, int j, int k) { out_[c](i, j, k) = wide_[c](i, j, k); });
-    changed_ = Box{};
+        copy_rows(wide_[c], out_[c], region);
     if (body.patch().empty()) {
         halos_.fill(out_); // collective: every rank takes part, with or without the body
         return out_;
@@ -160,7 +183,6 @@ const VelocityField& SurfaceVelocity::compute(const Body& body, real eps_cells, 
     Box faces = body.patch().local;
     for (int d = 0; d < dim; ++d)
         faces.hi[d] = std::min(faces.hi[d] + 1, block.cells[d]);
-    changed_ = faces;
     for (int c = 0; c < dim; ++c)
         for_each_in(faces, [&](int i, int j, int k) {
             const Int3 hi_cell{i, j, k}, lo_cell = shifted(hi_cell, c, -1);

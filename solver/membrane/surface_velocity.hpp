@@ -60,17 +60,18 @@ class SurfaceVelocity {
     SurfaceVelocity(const HaloFiller& halos, const std::string& body_name = "",
                     real max_reach = default_reach);
 
-    /// Once per step, before compute(): u (halos filled) into the interpolation source and
-    /// the result. Collective.
+    /// Once per step, before compute(): u (halos filled) into the interpolation source.
+    /// Collective.
     void load(const VelocityField& u);
 
     /// u_e for `body` (smoothing width `eps_cells` cells): u carried off the surface along
-    /// the normals near its band, u elsewhere; halos filled. Faces within `reach_cells` - 1
-    /// cells of the surface get u_e, those beyond `reach_cells` keep u, and between the two
-    /// the weight of u_e falls linearly (reach_cells <= the constructor's max_reach).
-    /// Collective: every rank calls it for every body, in the same order. The faces the
-    /// previous call changed get u back first, so the result for one body never carries
-    /// another's band.
+    /// the normals near its band, u elsewhere on the body's patch and within three cells of
+    /// it (what the body's transport reads; faces farther away hold whatever an earlier
+    /// call left); halos filled. Faces within `reach_cells` - 1 cells of the surface get
+    /// u_e, those beyond `reach_cells` keep u, and between the two the weight of u_e falls
+    /// linearly (reach_cells <= the constructor's max_reach). Collective: every rank calls it
+    /// for every body, in the same order; each sets u on its part of the body's region
+    /// first, so the result for one body never carries another's band there.
     const VelocityField& compute(const Body& body, real eps_cells,
                                  real reach_cells = default_reach);
 
@@ -79,8 +80,7 @@ class SurfaceVelocity {
     real max_reach_ = default_reach;
     int wide_halo_ = 8;  ///< ceil(max_reach) + 3
     VelocityField wide_; ///< u with wide halos, the interpolation source
-    VelocityField out_;  ///< u_e of the last body, u elsewhere
-    Box changed_{};      ///< owned faces (all components) the last compute() changed
+    VelocityField out_;  ///< u_e of the last body, u around it
     Field psi_;          ///< signed distance on the last body's patch
 };
 
