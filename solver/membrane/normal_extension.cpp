@@ -189,15 +189,19 @@ real NormalExtension::interpolate_cubic(const Field& f, const Real3& x) const {
         w[d] = {-t * (t - 1) * (t - 2) / 6, (t + 1) * (t - 1) * (t - 2) / 2,
                 -(t + 1) * t * (t - 2) / 2, (t + 1) * t * (t - 1) / 6};
     }
+    // One direction at a time: each row's sum along x, then the rows' along y, then z.
+    const std::ptrdiff_t sy = f.extent()[0];
     real r = 0;
     const int c0 = dim == 3 ? -1 : 0, c1 = dim == 3 ? 2 : 0;
     for (int c = c0; c <= c1; ++c) {
-        const real wc = dim == 3 ? w[2][c + 1] : 1.0;
-        for (int b = -1; b <= 2; ++b) {
-            const real wbc = wc * w[1][b + 1];
-            for (int a = -1; a <= 2; ++a)
-                r += wbc * w[0][a + 1] * f(base[0] + a, base[1] + b, base[2] + c);
+        const real* plane = f.data().data() + f.index(base[0] - 1, base[1] - 1, base[2] + c);
+        real along_y = 0;
+        for (int b = 0; b < 4; ++b) {
+            const real* row = plane + b * sy;
+            along_y += w[1][b] *
+                       (w[0][0] * row[0] + w[0][1] * row[1] + w[0][2] * row[2] + w[0][3] * row[3]);
         }
+        r += (dim == 3 ? w[2][c + 1] : 1.0) * along_y;
     }
     return r;
 }
