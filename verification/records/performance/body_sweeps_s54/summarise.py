@@ -7,14 +7,21 @@ from pathlib import Path
 here = Path(__file__).resolve().parent
 KEYS = ("step", "viscous_solve", "bodies_extension", "bodies_tensor", "bodies_vof",
         "body_stress", "bodies_surface_velocity")
-for path in sorted(here.glob("ab_*.txt")):
+
+
+def read_runs(path):
+    """{binary label: [{key: value} per run]} of one A/B file."""
     runs = {}
     for line in path.read_text().split("\n"):
         words = line.split()
         if len(words) < 6:
             continue
-        label, values = words[0], dict(zip(words[1::2], words[2::2]))
-        runs.setdefault(label, []).append(values)
+        runs.setdefault(words[0], []).append(dict(zip(words[1::2], words[2::2])))
+    return runs
+
+
+for path in sorted(here.glob("ab_*.txt")):
+    runs = read_runs(path)
     np_ = next(iter(runs.values()))[0]["np"]
     keys = [k for k in KEYS if all(k in v for r in runs.values() for v in r)]
     print(f"{path.name} ({np_} rank(s)), seconds per step, median of {min(map(len, runs.values()))} runs each:")
@@ -37,13 +44,7 @@ for path in sorted(here.glob("ab_*.txt")):
 print("Relative to the same run's viscous_solve + pressure_solve + predictor (medians):")
 print()
 for path in sorted(here.glob("ab_*.txt")):
-    runs = {}
-    for line in path.read_text().split("\n"):
-        words = line.split()
-        if len(words) < 6:
-            continue
-        label, values = words[0], dict(zip(words[1::2], words[2::2]))
-        runs.setdefault(label, []).append(values)
+    runs = read_runs(path)
     keys = [k for k in KEYS if all(k in v for r in runs.values() for v in r)]
     ref = ("viscous_solve", "pressure_solve", "predictor")
     print(f"{path.name}:")
