@@ -14,10 +14,33 @@
 #include <array>
 #include <cmath>
 #include <stdexcept>
+#include <type_traits>
 
 namespace efsi {
 
 namespace {
+
+/// Visit the cells of `box` row by row: those with |psi| > `limit` through `beyond` (nothing
+/// when null), the others through `near` (i, j, k). psi is read through a row pointer, so the
+/// many cells of a patch far from its surface cost one comparison each.
+template <class Beyond, class Near>
+void for_each_beyond_or_not(const Field& psi, const Box& box, real limit, Beyond&& beyond,
+                            Near&& near) {
+    const int nx = box.hi[0] - box.lo[0];
+    for (int k = box.lo[2]; k < box.hi[2]; ++k)
+        for (int j = box.lo[1]; j < box.hi[1]; ++j) {
+            const real* s = psi.data().data() + psi.index(box.lo[0], j, k);
+            for (int i = 0; i < nx; ++i) {
+                if (std::abs(s[i]) > limit) {
+                    if constexpr (!std::is_same_v<std::decay_t<Beyond>, std::nullptr_t>)
+                        beyond(Int3{box.lo[0] + i, j, k});
+                    continue;
+                }
+                near(box.lo[0] + i, j, k);
+            }
+        }
+}
+
 /// J = sqrt(II(Gs)), the area ratio of a tangential Gs (2D: its z row is the unit stretch).
 real area_ratio(const SymmetricTensorField& G, const Int3& p) {
     Matrix3 m{};
@@ -409,7 +432,8 @@ void NormalExtension::apply_reference_map(Body& body, bool whole_band, const Sha
     // 1. The map beyond the core: X(x) = X(y), y = x - s n, i.e. (X - x)(x) = (X - x)(y) - s n.
     //    Beyond the band it keeps its transported value (never read by the force).
     //    With a reference shape every band cell's X then goes onto its surface.
-    for_each_in(body.phi().owned(), [&](int i, int j, int k) {
+    const real far = reach_cells_ * g.dx(0); // normal_at's first test
+    for_each_beyond_or_not(psi_, body.phi().owned(), far, nullptr, [&](int i, int j, int k) {
         const Int3 p{i, j, k};
         real s = 0, gradient = 1;
         Real3 n;
@@ -450,73 +474,82 @@ void NormalExtension::apply_reference_map(Body& body, bool whole_band, const Sha
     //    and second differences of psi lose accuracy.
     const real ih2 = 1 / (g.dx(0) * g.dx(0));
     const real near = 2 * g.dx(0);
-    for_each_in(body.phi().owned(), [&](int i, int j, int k) {
-        const Int3 p{i, j, k};
-        real s = 0, gradient = 1;
-        Real3 n;
-        Matrix3 Gm = identity_matrix();
-        real ok = 0;
-        if (normal_at(p, s, n, gradient) && std::abs(s) <= near) {
-            Matrix3 gx = identity_matrix();
-            for (int a = 0; a < dim; ++a) {
-                const Real3 ga = central_gradient4(X[a], g, p, dim);
-                for (int b = 0; b < dim; ++b)
-                    gx[a][b] += ga[b];
-            }
-            Matrix3 H{};
-            const real c0 = psi_(p);
-            for (int a = 0; a < dim; ++a) {
-                H[a][a] = (psi_(shifted(p, a, 1)) - 2 * c0 + psi_(shifted(p, a, -1))) * ih2;
-                for (int b = a + 1; b < dim; ++b) {
-                    const Int3 pp = shifted(shifted(p, a, 1), b, 1);
-                    const Int3 pm = shifted(shifted(p, a, 1), b, -1);
-                    const Int3 mp = shifted(shifted(p, a, -1), b, 1);
-                    const Int3 mm = shifted(shifted(p, a, -1), b, -1);
-                    H[a][b] = H[b][a] = (psi_(pp) - psi_(pm) - psi_(mp) + psi_(mm)) * 0.25 * ih2;
+    // Cells with |psi| > near: not valid, Gs = 0 (what the cell's own pass below writes there:
+    // 0 times I).
+    auto far_from_surface = [&](const Int3& p) {
+        valid_(p) = 0;
+        for (Field& c : G.comp)
+            c(p) = 0;
+    };
+    for_each_beyond_or_not(
+        psi_, body.phi().owned(), near, far_from_surface, [&](int i, int j, int k) {
+            const Int3 p{i, j, k};
+            real s = 0, gradient = 1;
+            Real3 n;
+            Matrix3 Gm = identity_matrix();
+            real ok = 0;
+            if (normal_at(p, s, n, gradient) && std::abs(s) <= near) {
+                Matrix3 gx = identity_matrix();
+                for (int a = 0; a < dim; ++a) {
+                    const Real3 ga = central_gradient4(X[a], g, p, dim);
+                    for (int b = 0; b < dim; ++b)
+                        gx[a][b] += ga[b];
                 }
+                Matrix3 H{};
+                const real c0 = psi_(p);
+                for (int a = 0; a < dim; ++a) {
+                    H[a][a] = (psi_(shifted(p, a, 1)) - 2 * c0 + psi_(shifted(p, a, -1))) * ih2;
+                    for (int b = a + 1; b < dim; ++b) {
+                        const Int3 pp = shifted(shifted(p, a, 1), b, 1);
+                        const Int3 pm = shifted(shifted(p, a, 1), b, -1);
+                        const Int3 mp = shifted(shifted(p, a, -1), b, 1);
+                        const Int3 mm = shifted(shifted(p, a, -1), b, -1);
+                        H[a][b] = H[b][a] =
+                            (psi_(pp) - psi_(pm) - psi_(mp) + psi_(mm)) * 0.25 * ih2;
+                    }
+                }
+                // Q = (I - s P H P)^-1 (the z row and column stay I in 2D). newton_foot: with
+                // psi / |grad psi| for s and P H P / |grad psi| for W (exact for psi = c d).
+                const Matrix3 W = tangential_part(H, n, dim);
+                const real to_foot = foot_distance(s, gradient);
+                const real w_scale = newton_foot_ ? 1 / gradient : 1;
+                Matrix3 Q = identity_matrix();
+                for (int a = 0; a < dim; ++a)
+                    for (int b = 0; b < dim; ++b)
+                        Q[a][b] -= to_foot * w_scale * W[a][b];
+                // Valid where the parallel surfaces are those of a distance: every tangential
+                // eigenvalue of I - s W in [1/2, 2] (1 - s k for curvatures k of the surface).
+                // Not so where the two faces' bands overlap (a capsule a few cells thick, its
+                // tips) or psi wrinkles: there the foot points crowd, X folds (a singular value
+                // of grad X P of 0.03 measured in the d/16 Ca 0.2 capsule's thin end) and Gs
+                // from X is meaningless; such cells are left out of the copy in step 3.
+                real tr = 0, det = 0;
+                {
+                    // Eigenvalues of the tangential 2x2 block (3D) or the one value (2D):
+                    // from the trace and determinant of Q restricted to the tangent plane
+                    // (Q n = n, so those of Q are these and 1).
+                    tr = -1;
+                    for (int a = 0; a < 3; ++a)
+                        tr += Q[a][a];
+                    det = determinant(Q);
+                }
+                const real disc = std::sqrt(std::max(real(0), tr * tr / 4 - det));
+                const real lo = dim == 3 ? tr / 2 - disc : tr - 1; // 2D: z row is 1
+                const real hi = dim == 3 ? tr / 2 + disc : tr - 1;
+                ok = (lo >= 0.5 && hi <= 2.0) ? 1.0 : 0.0;
+                Q = inverse(Q);
+                Matrix3 gy{};
+                for (int a = 0; a < dim; ++a)
+                    for (int b = 0; b < dim; ++b)
+                        for (int c = 0; c < dim; ++c)
+                            gy[a][b] += gx[a][c] * Q[c][b];
+                Gm = surface_tensor_from_map(gy, n, dim);
             }
-            // Q = (I - s P H P)^-1 (the z row and column stay I in 2D). newton_foot: with
-            // psi / |grad psi| for s and P H P / |grad psi| for W (exact for psi = c d).
-            const Matrix3 W = tangential_part(H, n, dim);
-            const real to_foot = foot_distance(s, gradient);
-            const real w_scale = newton_foot_ ? 1 / gradient : 1;
-            Matrix3 Q = identity_matrix();
+            valid_(p) = ok;
             for (int a = 0; a < dim; ++a)
-                for (int b = 0; b < dim; ++b)
-                    Q[a][b] -= to_foot * w_scale * W[a][b];
-            // Valid where the parallel surfaces are those of a distance: every tangential
-            // eigenvalue of I - s W in [1/2, 2] (1 - s k for curvatures k of the surface).
-            // Not so where the two faces' bands overlap (a capsule a few cells thick, its
-            // tips) or psi wrinkles: there the foot points crowd, X folds (a singular value
-            // of grad X P of 0.03 measured in the d/16 Ca 0.2 capsule's thin end) and Gs
-            // from X is meaningless; such cells are left out of the copy in step 3.
-            real tr = 0, det = 0;
-            {
-                // Eigenvalues of the tangential 2x2 block (3D) or the one value (2D):
-                // from the trace and determinant of Q restricted to the tangent plane
-                // (Q n = n, so those of Q are these and 1).
-                tr = -1;
-                for (int a = 0; a < 3; ++a)
-                    tr += Q[a][a];
-                det = determinant(Q);
-            }
-            const real disc = std::sqrt(std::max(real(0), tr * tr / 4 - det));
-            const real lo = dim == 3 ? tr / 2 - disc : tr - 1; // 2D: z row is 1
-            const real hi = dim == 3 ? tr / 2 + disc : tr - 1;
-            ok = (lo >= 0.5 && hi <= 2.0) ? 1.0 : 0.0;
-            Q = inverse(Q);
-            Matrix3 gy{};
-            for (int a = 0; a < dim; ++a)
-                for (int b = 0; b < dim; ++b)
-                    for (int c = 0; c < dim; ++c)
-                        gy[a][b] += gx[a][c] * Q[c][b];
-            Gm = surface_tensor_from_map(gy, n, dim);
-        }
-        valid_(p) = ok;
-        for (int a = 0; a < dim; ++a)
-            for (int b = a; b < dim; ++b)
-                G.comp[SymmetricTensorField::slot(a, b, dim)](p) = ok * Gm[a][b];
-    });
+                for (int b = a; b < dim; ++b)
+                    G.comp[SymmetricTensorField::slot(a, b, dim)](p) = ok * Gm[a][b];
+        });
     for (Field& c : G.comp)
         halos_.fill(c, body.patch());
     // 2b. (area_filter) J of the rebuilt Gs, low-passed: the (1, 2, 1)^dim weighted mean over
