@@ -24,6 +24,11 @@ Metrics (result.json):
 - `cell_free_layer_um`: R minus the mean, over the snapshots of the second half, the x
   columns of cells and 16 angular sectors, of the largest radius (cell centre) where the red
   cells' phi summed over cells exceeds 1/2 (columns and sectors with no red cell left out);
+  next to it the published widths of CELL_FREE_LAYER_PUBLISHED (in-vivo arterioles at a
+  systemic Ht of 20 %; no in-vitro or simulated width at D = 20 um and Ht 0.2 was found in
+  the sources searched) as `cell_free_layer_minus_<key>_um` (reported; no bound: in-vivo
+  vessels are 20-40 um wide, carry an endothelial surface layer, and their Ht is the
+  systemic one, above the tube Ht of a 20 um tube by the Fahraeus effect);
 - `platelet_radial_rms_fluctuation_with_rbc_um` and `..._without_rbc_um`: per platelet the
   rms of its centroid's radial position about its mean over the second half of the run,
   then the rms over the platelets (the paper's Fig. 3: the red cells agitate the platelets);
@@ -113,6 +118,31 @@ CI_GRID, CI_GAP = "[64, 32, 32]", "0.6875"
 
 DIAMETER = 2 * R_LUMEN
 TUBE_R, TUBE_AXIS, TUBE_LENGTH = 5.0, 6.0, 24.0  # um (cases/rbc_in_tube)
+
+
+# Published cell-free layer widths to set the measured one beside (um). Each was read in the
+# source's abstract (the addresses below); the full papers were not at hand.
+CELL_FREE_LAYER_PUBLISHED = {
+    # Mean width of the cell-free layer, rat cremaster arterioles 20-40 um, systemic Ht 20 %
+    # (hemodilution), high-speed video: "The CFL values were 5.4 +- 0.2, 3.1 +- 0.1 and
+    # 0.9 +- 0.1 um at 20, 40 and 75% Hctsys". "Effect of systemic hematocrit on volume flow
+    # and cell-free layer width in arterioles" (FASEB J abstract; authors not given on the page
+    # read), https://discovery.researcher.life/article/effect-of-systemic-hematocrit-on-volume-
+    # flow-and-cell-free-layer-width-in-arterioles/b163dae25b1233ec8ad82286b86555b8
+    "invivo_arterioles_hct20": 5.4,
+    # The red cells' exclusion zone (the gap to the cells nearest the wall, a lower bound on
+    # the mean layer), rat arterioles 30-40 um: "decreased from 2.0 um at a systemic
+    # hematocrit (Hct sys) of 20% to a value of 1.0 to 1.1 um over a wide Hct sys range of 30
+    # to 60%". Yalcin O., Jivani M., Intaglietta M., Johnson P.C., FASEB J 24 (2010) 974.8,
+    # doi 10.1096/fasebj.24.1_supplement.974.8.
+    "exclusion_zone_yalcin2010_hct20": 2.0,
+}
+
+
+def cell_free_layer_comparison(width_um: float) -> dict:
+    """The measured width minus each published one (CELL_FREE_LAYER_PUBLISHED), as metrics."""
+    return {f"cell_free_layer_minus_{k}_um": width_um - v
+            for k, v in CELL_FREE_LAYER_PUBLISHED.items()}
 
 
 def pries_1992(tube_ht: float, d: float = DIAMETER) -> tuple[float, float]:
@@ -505,6 +535,7 @@ def run(ctx):
         metrics["relative_apparent_viscosity"] - pries)
     edges = [r for p in late["cells"] for r in rbc_edge_radii(p, h)]
     metrics["cell_free_layer_um"] = R_LUMEN - float(np.mean(edges)) if edges else float("nan")
+    metrics.update(cell_free_layer_comparison(metrics["cell_free_layer_um"]))
     radii = {k: platelet_radii(per[k]) for k in per}
     metrics["platelet_radial_rms_fluctuation_with_rbc_um"] = rms_fluctuation(radii["cells"], half)
     metrics["platelet_radial_rms_fluctuation_without_rbc_um"] = rms_fluctuation(
@@ -530,7 +561,11 @@ def run(ctx):
     metrics = {k: v for k, v in metrics.items() if np.isfinite(v)}
     figures = plot(ctx, radii, late, h, q) + plot_tube(ctx, tube_series, h_tube)
     notes = (f"Pries et al. 1992 at D = 20 um: tube Ht {metrics['achieved_ht']:.4f} is a "
-             f"discharge Ht of {hd:.4f}, relative apparent viscosity {pries:.3f}.")
+             f"discharge Ht of {hd:.4f}, relative apparent viscosity {pries:.3f}. "
+             "Cell-free layer beside the published in-vivo widths at a systemic Ht of 20 % "
+             "(um): " + ", ".join(f"{k} {v:g}" for k, v in CELL_FREE_LAYER_PUBLISHED.items()) +
+             " (the sources in CELL_FREE_LAYER_PUBLISHED, verification/studies/"
+             "blood_capillary.py).")
     return {"metrics": metrics, "tables": {"runs": rows}, "figures": figures, "notes": notes}
 
 

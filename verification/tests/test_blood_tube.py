@@ -67,3 +67,12 @@ def test_velocity_ratio_from_the_centroid_and_the_flow_rate(tmp_path):
     assert abs(m["rbc_in_tube_reference_area_drift_max"] - 0.01) < 1e-12
     assert m["reached_end_tube"] == 1 and m["rbc_in_tube_volume_drift"] == 0.0
     assert abs(m["rbc_in_tube_length_um"] - 6.0) <= H
+
+
+def test_cell_free_layer_beside_the_published_widths():
+    """Each published width gives one metric, the measured width minus it."""
+    m = bc.cell_free_layer_comparison(3.0)
+    assert set(m) == {f"cell_free_layer_minus_{k}_um" for k in bc.CELL_FREE_LAYER_PUBLISHED}
+    for k, v in bc.CELL_FREE_LAYER_PUBLISHED.items():
+        assert math.isclose(m[f"cell_free_layer_minus_{k}_um"], 3.0 - v)
+    assert all(math.isnan(v) for v in bc.cell_free_layer_comparison(float("nan")).values())
