@@ -1,6 +1,8 @@
 #include "bodies/body.hpp"
 
 #include <algorithm>
+#include <cstdlib>
+#include <vector>
 
 namespace efsi {
 
@@ -50,19 +52,39 @@ void Body::move_to(const Patch& patch) {
     allocate(patch);
     if (old_patch.empty() || patch_.empty()) return;
     const Box& ob = old_patch.local;
+    const Box& nb = patch_.local;
     // Every new owned point takes the value of the nearest old owned point: exact where
     // they overlap, a zero-gradient extension elsewhere (phi is ~0 there by the margin).
+    // Across the periodic x seam (either box crossing it) an x index and its images a period
+    // apart are the same cells: each new x takes the image that lies in the old box, or the
+    // nearest one.
+    const int period = std::max(old_patch.seam_period, patch_.seam_period);
+    const int nx = nb.hi[0] - nb.lo[0];
+    std::vector<int> from_x(std::size_t(std::max(0, nx)));
+    std::vector<char> inside_x(from_x.size());
+    for (int i = nb.lo[0]; i < nb.hi[0]; ++i) {
+        int best = std::clamp(i, ob.lo[0], ob.hi[0] - 1), dist = std::abs(best - i);
+        for (const int image : {i - period, i + period}) {
+            if (period == 0) break;
+            const int c = std::clamp(image, ob.lo[0], ob.hi[0] - 1);
+            if (std::abs(c - image) < dist) {
+                best = c;
+                dist = std::abs(c - image);
+            }
+        }
+        from_x[std::size_t(i - nb.lo[0])] = best;
+        inside_x[std::size_t(i - nb.lo[0])] = dist == 0;
+    }
     auto nearest = [&](int i, int j, int k) {
-        Int3 q{i, j, k};
-        for (int d = 0; d < 3; ++d)
+        Int3 q{from_x[std::size_t(i - nb.lo[0])], j, k};
+        for (int d = 1; d < 3; ++d)
             q[d] = std::clamp(q[d], ob.lo[d], ob.hi[d] - 1);
         return q;
     };
-    const Box overlap = intersect(ob, patch_.local);
     for_each_in(patch_.local, [&](int i, int j, int k) {
         const Int3 p{i, j, k};
         const Int3 q = nearest(i, j, k);
-        const bool inside = !overlap.empty() && overlap.contains(Box{p, {i + 1, j + 1, k + 1}});
+        const bool inside = inside_x[std::size_t(i - nb.lo[0])] && q[1] == j && q[2] == k;
         phi_(p) = inside ? old_phi(q) : 0.0;
         for (std::size_t s = 0; s < old_tensor.size(); ++s)
             tensor_.comp[s](p) = old_tensor[s](q);

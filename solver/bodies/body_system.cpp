@@ -56,6 +56,19 @@ BodySystem::BodySystem(const Config& config, const Decomposition& dec, const Hal
         }
         clipped_.push_back(0);
     }
+    // A patch may cross the periodic x seam when the body's kernels touch only the velocity
+    // (read) and the force (added) of the flow, which the seam copies serve: not with the
+    // surface velocity's wide copy, a viscosity of its own (mu), the increment damping's
+    // weight on the membranes, or receptors (adhesion).
+    const bool damped_membranes = config.time.increment_damping > 1 &&
+                                  config.time.increment_damping_on == DampingRegion::Membranes;
+    for (std::size_t i = 0; i < bodies_.size(); ++i) {
+        const BodyConfig& b = config.bodies[i];
+        cross_seam_.push_back(physics_[i]->moves() && !b.carried_by_surface_velocity() &&
+                              physics_[i]->viscosity() == config.fluid.viscosity &&
+                              !config.adhesion.enabled &&
+                              !(damped_membranes && b.kind == BodyKind::Membrane));
+    }
 }
 
 BodySystem::~BodySystem() = default;
@@ -92,7 +105,7 @@ void BodySystem::initialise_body(std::size_t i) {
         start.lo[d] = int(std::floor((bc.centre[d] - reach - g.origin[d]) / h));
         start.hi[d] = int(std::ceil((bc.centre[d] + reach - g.origin[d]) / h));
     }
-    body.allocate(make_patch(start, dec_));
+    body.allocate(make_patch(start, dec_, 2, cross_seam_[i]));
     Field& phi = body.phi();
     const auto shape = make_body_shape(bc); // null for a mask
     if (bc.shape == BodyShape::Mask) {
@@ -131,7 +144,9 @@ void BodySystem::initialise_body(std::size_t i) {
             const real rb = shape->bounding_radius();
             const Real3 centre = shape->centre();
             for_each_in(phi.owned(), [&](int a, int b, int c) {
-                const Real3 x = position(g, dec_.block(), Location::Cell, a, b, c);
+                // Across a periodic seam, the image of the cell nearest the body.
+                const Real3 x = image_near(position(g, dec_.block(), Location::Cell, a, b, c),
+                                           centre, g, dec_.periodic());
                 if (std::hypot(x[0] - centre[0], x[1] - centre[1], x[2] - centre[2]) - rb > cut) {
                     phi(a, b, c) = 0;
                     return;
@@ -140,7 +155,7 @@ void BodySystem::initialise_body(std::size_t i) {
                 phi(a, b, c) = v < 1e-8 ? 0.0 : v; // the tail is cut ~9 eps out
             });
         } else {
-            initial_volume_fraction(*shape, g, dec_.block(), phi, bc.subsamples);
+            initial_volume_fraction(*shape, g, dec_.block(), phi, bc.subsamples, &dec_.periodic());
         }
     }
     halos_.fill(phi, body.patch());
@@ -152,7 +167,7 @@ void BodySystem::occupied_extent(const Body& b, real* out) const {
     real* hi = out + 3;
     for (int d = 0; d < 3; ++d) {
         neg_lo[d] = -real(big);
-        hi[d] = 0;
+        hi[d] = -real(big); // a patch across the seam has indices below 0
     }
     if (b.patch().empty()) return;
     const Int3 off = dec_.block().offset;
@@ -241,6 +256,7 @@ void BodySystem::track_patches(bool force) {
             occ[q].lo[d] = int(-ext[6 * q + d]);
             occ[q].hi[d] = int(ext[6 * q + 3 + d]);
         }
+    unwrap_occupied(tracked, occ);
     if (!force) drop_residues(tracked, occ);
     for (std::size_t q = 0; q < n; ++q) {
         Body& body = *bodies_[tracked[q]];
@@ -263,8 +279,14 @@ void BodySystem::track_patches(bool force) {
             wanted.hi[d] += m;
         }
         const Box& fitted = body.patch().fitted;
-        const Patch target = make_patch(wanted, dec_);
-        if (!force && fitted.contains(make_patch(needed, dec_, 0).fitted) &&
+        const bool cross = cross_seam_[tracked[q]];
+        const Patch target = make_patch(wanted, dec_, 2, cross);
+        // A patch over the whole of x that may now cross the seam instead moves at once.
+        const int nx = dec_.grid().cells[0];
+        const bool leaves_whole_x = cross && fitted.lo[0] == 0 && fitted.hi[0] == nx &&
+                                    target.fitted.hi[0] - target.fitted.lo[0] < nx;
+        if (!force && !leaves_whole_x &&
+            fitted.contains(make_patch(needed, dec_, 0, cross).fitted) &&
             fitted.count() <= 2 * target.fitted.count())
             continue;
         body.move_to(target);
@@ -280,7 +302,10 @@ void BodySystem::advance(const VelocityField& u, real dt, long step, StageTimers
     // One copy of u with wide halos per step serves every membrane's surface velocity.
     if (surface_velocity_)
         timers.time("bodies_surface_velocity", [&] { surface_velocity_->load(u); });
-    const BodyStep s{u, dt, step, timers, surface_velocity_.get()};
+    // Patches across the periodic x seam read the velocity from a copy whose x halo reaches
+    // past them (the same values: the flow is periodic there).
+    const VelocityField& uv = seam_velocity(u);
+    const BodyStep s{uv, dt, step, timers, surface_velocity_.get()};
     std::vector<std::size_t> moving;
     for (std::size_t i = 0; i < bodies_.size(); ++i)
         if (physics_[i]->moves()) moving.push_back(i);
@@ -311,7 +336,7 @@ void BodySystem::advance(const VelocityField& u, real dt, long step, StageTimers
         }
         for (int sweep = 0; sweep < dec_.dim(); ++sweep) {
             for (std::size_t i : moving)
-                physics_[i]->vof().sweep_step(bodies_[i]->phi(), u, dt, step, sweep,
+                physics_[i]->vof().sweep_step(bodies_[i]->phi(), uv, dt, step, sweep,
                                               &bodies_[i]->patch(), local[i]);
             halos_.fill(phis, patches);
         }
@@ -355,13 +380,15 @@ void BodySystem::add_forces(VelocityField& force) {
         force[c].fill(0);
     // Each body's work on its own fields in rounds of halo fills (a rank does not wait at a
     // body's fill while the other still works on a body it holds more of), then the forces
-    // added body after body: the sums of a body-by-body loop.
+    // added body after body: the sums of a body-by-body loop (patches across the periodic x
+    // seam add to a copy whose x halo is folded back afterwards).
     std::vector<BodyWork> works;
     for (std::size_t i = 0; i < bodies_.size(); ++i)
         works.push_back(physics_[i]->prepare_force(*bodies_[i]));
     run_in_rounds(works, halos_);
+    VelocityField& target = seam_force(force);
     for (std::size_t i = 0; i < bodies_.size(); ++i)
-        physics_[i]->add_force(*bodies_[i], force);
+        physics_[i]->add_force(*bodies_[i], target);
     if (cfg_.contact.stiffness > 0 && bodies_.size() > 1) {
         std::vector<const Body*> list;
         std::vector<bool> held;
@@ -369,8 +396,9 @@ void BodySystem::add_forces(VelocityField& force) {
             list.push_back(bodies_[i].get());
             held.push_back(!physics_[i]->moves());
         }
-        add_contact_forces(list, held, dec_, cfg_.contact.stiffness, force);
+        add_contact_forces(list, held, dec_, cfg_.contact.stiffness, target);
     }
+    fold_seam_force(force);
 }
 
 bool BodySystem::add_pinning(Field& chi) const {

@@ -100,6 +100,25 @@ class BodySystem {
     void drop_residues(const std::vector<std::size_t>& tracked, const std::vector<Box>& occ);
     /// Body i's phi on a box that certainly holds it (initialise() then fits the patch).
     void initialise_body(std::size_t i);
+    /// For the tracked bodies whose patch covers the whole of a periodic x although they may
+    /// cross the seam: their occupied x range as the shortest periodic interval holding their
+    /// occupied columns, unwrapped (lo in [0, n)), in place of occ's (collective).
+    void unwrap_occupied(const std::vector<std::size_t>& tracked, std::vector<Box>& occ) const;
+
+    // The periodic seam (docs/method.md, "The periodic seam"): a patch that crosses it indexes
+    // x past [0, n); its kernels read the velocity and write the force there, in copies of
+    // the flow's fields whose x halo reaches past every such patch.
+    /// Whether some body's patch crosses the seam now.
+    bool any_crosses_seam() const;
+    /// The x halo (cells) the seam copies need for the patches as they are now.
+    int seam_halo() const;
+    /// u, or its seam copy (x halo seam_halo(), filled across the seam) when a patch crosses.
+    const VelocityField& seam_velocity(const VelocityField& u);
+    /// The field the bodies add their forces to: `force`, or the zeroed seam copy.
+    VelocityField& seam_force(VelocityField& force);
+    /// Fold the seam copy's x halo back onto the faces it images and copy it into `force`
+    /// (nothing when the bodies added to `force` itself).
+    void fold_seam_force(VelocityField& force);
 
     const Config& cfg_;
     const Decomposition& dec_;
@@ -110,6 +129,11 @@ class BodySystem {
     /// no body uses it).
     std::unique_ptr<SurfaceVelocity> surface_velocity_;
     std::vector<real> clipped_;
+    /// Whether body i's patch may cross the periodic x seam (a moving body whose kernels read
+    /// and write only the velocity and the force; the others keep the whole of x there).
+    std::vector<char> cross_seam_;
+    VelocityField seam_u_, seam_force_; ///< the seam copies (allocated when first needed)
+    bool force_in_copy_ = false;        ///< the last seam_force() gave the copy
 };
 
 } // namespace efsi

@@ -76,7 +76,11 @@ Real3 solve_spin(const real* t, const Real3& L, int dim) {
 
 RigidMotion fit_rigid_motion(const Body& b, const VelocityField& u, const Decomposition& dec,
                              const Real3& near) {
-    auto velocity = [&](const Int3& q) {
+    // A patch across the periodic x seam indexes x past [0, n): the velocity there is its
+    // image's (x is whole on the rank).
+    const int period = b.patch().seam_period;
+    auto velocity = [&](Int3 q) {
+        if (period > 0) q[0] = (q[0] % period + period) % period;
         Real3 v{0, 0, 0};
         for (int c = 0; c < u.dim; ++c)
             v[c] = cell_centre_velocity(u, c, q);
@@ -158,7 +162,15 @@ std::size_t spread_rigid_load(const Body& b, const RigidLoad& load, const Decomp
         // its last cell along comp.
         Box faces = b.patch().local;
         faces.hi[comp] += 1;
-        faces = intersect(faces, Box{{0, 0, 0}, blk.cells});
+        // Across the periodic x seam the patch's x indices run past [0, n): each face is
+        // written at its image (x is whole on the rank).
+        const int period = b.patch().seam_period;
+        Box own{{0, 0, 0}, blk.cells};
+        if (period > 0) {
+            own.lo[0] = faces.lo[0];
+            own.hi[0] = faces.hi[0];
+        }
+        faces = intersect(faces, own);
         // The cell below the patch's first local cell is the patch's (filled halo) when the
         // patch goes on below this rank's part, or wraps (it then covers the direction).
         const Patch& pa = b.patch();
@@ -176,7 +188,7 @@ std::size_t spread_rigid_load(const Body& b, const RigidLoad& load, const Decomp
             if (below[comp] >= b.patch().local.lo[comp] || below_in_patch)
                 v += high_share(gi - 1) * density(comp, below);
             if (v == 0) return;
-            f(i, j, k) += v;
+            f(period > 0 ? (i % period + period) % period : i, j, k) += v;
             ++written;
         });
     }

@@ -36,9 +36,14 @@ class Field {
     }
 
     Field(std::string name, Location loc, const Int3& begin, const Int3& cells, int dim, int halo)
+        : Field(std::move(name), loc, begin, cells, dim, Int3{halo, halo, halo}) {}
+
+    /// Halos of their own width per direction (none past dim).
+    Field(std::string name, Location loc, const Int3& begin, const Int3& cells, int dim,
+          const Int3& halo)
         : name_(std::move(name)), loc_(loc), begin_(begin), cells_(cells) {
         for (int d = 0; d < 3; ++d) {
-            halo_[d] = (d < dim) ? halo : 0;
+            halo_[d] = (d < dim) ? halo[d] : 0;
             ext_[d] = cells_[d] + 2 * halo_[d];
         }
         stride_ = {1, std::size_t(ext_[0]), std::size_t(ext_[0]) * std::size_t(ext_[1])};

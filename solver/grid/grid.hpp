@@ -6,6 +6,8 @@
 // all locations share one index box per rank.
 #pragma once
 
+#include <cmath>
+
 #include "core/types.hpp"
 
 namespace efsi {
@@ -47,6 +49,14 @@ inline Real3 position(const GlobalGrid& g, const LocalBlock& b, Location loc, in
         const real shift = (face_normal(loc) == d) ? 0.0 : 0.5;
         x[d] = g.origin[d] + (b.offset[d] + idx[d] + shift) * g.dx(d);
     }
+    return x;
+}
+
+/// The image of x nearest `about` along the periodic directions (x itself elsewhere): where
+/// a body's shape is evaluated at a cell across the periodic seam from its centre.
+inline Real3 image_near(Real3 x, const Real3& about, const GlobalGrid& g, const Bool3& periodic) {
+    for (int d = 0; d < g.dim; ++d)
+        if (periodic[d]) x[d] -= g.length[d] * std::round((x[d] - about[d]) / g.length[d]);
     return x;
 }
 

@@ -462,7 +462,8 @@ bool may_be_cut(const Shape& s, const Real3& xc, const Real3& hw, int dim, bool&
 } // namespace
 
 VolumeFractionStats initial_volume_fraction(const Shape& shape, const GlobalGrid& grid,
-                                            const LocalBlock& block, Field& phi, int subsamples) {
+                                            const LocalBlock& block, Field& phi, int subsamples,
+                                            const Bool3* periodic) {
     if (subsamples < 1) throw InputError("initial_volume_fraction: subsamples must be >= 1");
     const int dim = grid.dim;
     Real3 hw{0, 0, 0};
@@ -477,7 +478,8 @@ VolumeFractionStats initial_volume_fraction(const Shape& shape, const GlobalGrid
     real vol = 0;
     // The owned points of phi: the whole block, or a body's patch of it.
     for_each_in(phi.owned(), [&](int i, int j, int k) {
-        const Real3 xc = position(grid, block, Location::Cell, i, j, k);
+        Real3 xc = position(grid, block, Location::Cell, i, j, k);
+        if (periodic) xc = image_near(xc, shape.centre(), grid, *periodic);
         bool full = false;
         if (!may_be_cut(shape, xc, hw, dim, full)) {
             phi(i, j, k) = full ? 1.0 : 0.0;

@@ -156,9 +156,11 @@ struct VolumeFractionStats {
 /// points (cell-centred sub-cells) that lie inside. Error per cut cell ~ 1/subsamples^2
 /// for a smooth surface (midpoint rule on the sub-cells, the surface crossing each
 /// sub-cell row once). Halos are left untouched; fill them afterwards. `volume` in the
-/// returned stats is the local sum; reduce it over ranks if needed.
+/// returned stats is the local sum; reduce it over ranks if needed. `periodic` (optional):
+/// each cell takes the shape at its image nearest the shape's centre along the periodic
+/// directions (a body across a periodic seam).
 VolumeFractionStats initial_volume_fraction(const Shape& shape, const GlobalGrid& grid,
-                                            const LocalBlock& block, Field& phi,
-                                            int subsamples = 8);
+                                            const LocalBlock& block, Field& phi, int subsamples = 8,
+                                            const Bool3* periodic = nullptr);
 
 } // namespace efsi

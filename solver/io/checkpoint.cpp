@@ -328,8 +328,17 @@ void read_checkpoint(const fs::path& file, const Decomposition& dec, FlowState& 
                 box.hi[d] = int(f.read_attribute(base + "hi" + std::to_string(d)));
             }
             // The stored (widened) box, widened again for this layout: it holds every value
-            // written. The moves follow the stored fitted box.
-            Patch patch = make_patch(box, dec);
+            // written. The moves follow the stored fitted box. A box stored across the
+            // periodic x seam stays so (only a body allowed to cross it has one), on a layout
+            // that keeps x whole.
+            const int nx = dec.grid().cells[0];
+            if ((box.lo[0] < 0 || box.hi[0] > nx) && dec.ranks_per_dim()[0] != 1)
+                throw InputError(fmt::format(
+                    "{}: body '{}' crosses the periodic x seam in this checkpoint (its patch "
+                    "spans x cells {} to {} of {}), which a layout with {} ranks along x cannot "
+                    "hold; restart with 1 rank along x (parallel.ranks = [1, ...])",
+                    at, b->name(), box.lo[0], box.hi[0], nx, dec.ranks_per_dim()[0]));
+            Patch patch = make_patch(box, dec, 2, true);
             if (f.has_attribute(base + "fitted_lo0"))
                 for (int d = 0; d < 3; ++d) {
                     patch.fitted.lo[d] =

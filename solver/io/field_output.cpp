@@ -180,10 +180,28 @@ void FieldOutput::write(const FlowState& s, const std::vector<const Body*>& bodi
             auto write_patch_field = [&](const std::string& dataset, const Field& fld,
                                          const std::string& units) {
                 std::vector<double> v;
-                if (!body->patch().empty())
+                Box lb = body->patch().local;
+                if (body->patch().crosses_seam() && !body->patch().empty()) {
+                    // Its indices run past [0, n) along x: written over the whole of x, each
+                    // value at its index modulo n, zeros where the patch has no cell (the
+                    // dataset's chunks hold those almost for free).
+                    const int n = body->patch().seam_period;
+                    Box whole = lb;
+                    whole.lo[0] = 0;
+                    whole.hi[0] = n;
+                    std::vector<double> row(std::size_t(n), 0.0);
+                    for (int k = whole.lo[2]; k < whole.hi[2]; ++k)
+                        for (int j = whole.lo[1]; j < whole.hi[1]; ++j) {
+                            std::fill(row.begin(), row.end(), 0.0);
+                            for (int i = lb.lo[0]; i < lb.hi[0]; ++i)
+                                row[std::size_t(((i % n) + n) % n)] = fld(i, j, k);
+                            v.insert(v.end(), row.begin(), row.end());
+                        }
+                    lb = whole;
+                } else if (!body->patch().empty()) {
                     for_each_in(fld.owned(),
                                 [&](int i, int j, int k) { v.push_back(fld(i, j, k)); });
-                const Box& lb = body->patch().local;
+                }
                 const Int3 off{b.offset[0] + lb.lo[0], b.offset[1] + lb.lo[1],
                                b.offset[2] + lb.lo[2]};
                 f.write_flat(dataset, g.cells, off,

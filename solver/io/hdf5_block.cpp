@@ -164,7 +164,12 @@ bool read_owned(const Decomposition& dec, hid_t file, hid_t xfer, const std::str
         for (int d = 0; d < 3 && fits; ++d) {
             stored.lo[d] = int(lo[d]);
             stored.hi[d] = int(lo[d] + std::int64_t(dims[2 - d]));
-            fits = stored.lo[d] >= 0 && stored.hi[d] <= g.cells[d];
+            // Along a periodic x a patch's box may cross the seam (bodies/patch.hpp): its
+            // indices then run past [0, n), but it is never wider than the grid.
+            const bool across = d == 0 && dec.periodic()[0] && stored.lo[0] > -g.cells[0] &&
+                                stored.hi[0] < 2 * g.cells[0] &&
+                                stored.hi[0] - stored.lo[0] < g.cells[0];
+            fits = across || (stored.lo[d] >= 0 && stored.hi[d] <= g.cells[d]);
         }
     } else {
         fits = fits && dims[0] == hsize_t(g.cells[2]) && dims[1] == hsize_t(g.cells[1]) &&

@@ -86,7 +86,9 @@ void MembraneBody::initialise_tensor(Body& body, const Shape& shape_ref) {
     // differences of the level function with a step far below the cell size.
     const real step = 1e-6 * g.dx(0);
     for_each_in(phi.owned(), [&](int a, int b, int c) {
-        const Real3 x = position(g, ctx_.dec.block(), Location::Cell, a, b, c);
+        // Across a periodic seam, the image of the cell nearest the shape.
+        const Real3 x = image_near(position(g, ctx_.dec.block(), Location::Cell, a, b, c),
+                                   shape->centre(), g, ctx_.dec.periodic());
         Real3 n{0, 0, 0};
         real len = 0;
         for (int d = 0; d < g.dim; ++d) {
@@ -122,7 +124,8 @@ void MembraneBody::initialise_reference_curvature(Body& body, const Shape& shape
         // directly: one nearest-point search per cell instead of 19 level evaluations.
         const real s = 1e-2 * g.dx(0);
         for_each_in(body.phi().owned(), [&](int a, int b, int c) {
-            const Real3 x = position(g, ctx_.dec.block(), Location::Cell, a, b, c);
+            const Real3 x = image_near(position(g, ctx_.dec.block(), Location::Cell, a, b, c),
+                                       shape->centre(), g, ctx_.dec.periodic());
             if (g.dim == 3) {
                 if (const real k = shape->level_set_mean_curvature(x); !std::isnan(k)) {
                     (*kr)(a, b, c) = k;

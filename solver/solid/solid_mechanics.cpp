@@ -40,10 +40,12 @@ void add_elastic_force(VelocityField& force, const Body& body, const SolidLaw& l
     const Box cells = body.phi().owned();
     for (int c = 0; c < dim; ++c) {
         // Faces of the patch's cells, including the high face of its last cell, within
-        // the faces this rank owns.
+        // the faces this rank owns (along x past the periodic seam too, for a patch that
+        // crosses it: `force` is then the body system's seam copy).
         Box faces = cells;
         faces.hi[c] += 1;
         for (int d = 0; d < 3; ++d) {
+            if (d == 0 && body.patch().crosses_seam()) continue;
             faces.lo[d] = std::max(faces.lo[d], 0);
             faces.hi[d] = std::min(faces.hi[d], block.cells[d]);
         }

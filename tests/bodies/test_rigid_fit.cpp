@@ -74,8 +74,8 @@ shape = "sphere"
 centre = [0.02, 0.5, 0.4]
 radius = 0.15
 )"));
-    // The shape is drawn without periodic images: phi redrawn here over both sides of the
-    // seam (the patch of a box that wraps covers the whole direction).
+    // phi redrawn here, sharp, over both sides of the seam (the patch crosses it: its x
+    // indices run past the grid's, bodies/patch.hpp).
     Body& b = s.body(0);
     const GlobalGrid& g = s.dec.grid();
     for_each_in(b.phi().owned(), [&](int i, int j, int k) {

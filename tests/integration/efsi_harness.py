@@ -55,7 +55,9 @@ def datasets(path):
     """Every dataset of an HDF5 file as {name: array}. A checkpoint's body dataset holds only
     its patch box (attribute box_lo: where the box starts, x, y, z): it is placed on the whole
     grid (the shape of "pressure"), zero outside the box, so that checkpoints written on any
-    rank layout (whose patch boxes may differ) compare point by point."""
+    rank layout (whose patch boxes may differ) compare point by point. A box across the
+    periodic x seam (x indices below 0 or past the grid) is placed at its indices modulo the
+    grid's x cells."""
     out, boxes = {}, {}
     with h5py.File(path, "r") as f:
         def visit(name, obj):
@@ -68,13 +70,32 @@ def datasets(path):
             box = out[name]
             full = np.zeros(out["pressure"].shape, dtype=box.dtype)
             nz, ny, nx = box.shape
-            full[z0:z0 + nz, y0:y0 + ny, x0:x0 + nx] = box
+            columns = np.arange(x0, x0 + nx) % full.shape[2]
+            full[z0:z0 + nz, y0:y0 + ny, columns] = box
             out[name] = full
         for k, v in f.attrs.items():
             # numeric attributes only (a checkpoint also holds its case fingerprint and
             # the checksum of its attributes as strings)
             if np.asarray(v).dtype.kind in "biuf":
                 out["@" + k] = np.asarray(v)
+    return out
+
+
+def dataset_coverage(path):
+    """For each body dataset of a checkpoint (a patch box, attribute box_lo), the grid cells its
+    box covers, as a boolean array of the shape datasets() places it on: where two layouts'
+    patches both hold a body's values (a tensor's value off the body, e.g. B = I, exists only
+    where a patch stores it)."""
+    out = {}
+    with h5py.File(path, "r") as f:
+        shape = f["pressure"].shape
+        for name, obj in f.items():
+            if isinstance(obj, h5py.Dataset) and "box_lo" in obj.attrs:
+                x0, y0, z0 = (int(v) for v in obj.attrs["box_lo"])
+                nz, ny, nx = obj.shape
+                mask = np.zeros(shape, dtype=bool)
+                mask[z0:z0 + nz, y0:y0 + ny, np.arange(x0, x0 + nx) % shape[2]] = True
+                out[name] = mask
     return out
 
 

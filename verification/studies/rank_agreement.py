@@ -41,7 +41,9 @@ def read_checkpoint(path):
                 x0, y0, z0 = (int(v) for v in f[k].attrs["box_lo"])
                 box = data[k]
                 data[k] = np.zeros(data["pressure"].shape)
-                data[k][z0:z0 + box.shape[0], y0:y0 + box.shape[1], x0:x0 + box.shape[2]] = box
+                # (a box across the periodic x seam: at its x indices modulo the grid's)
+                columns = np.arange(x0, x0 + box.shape[2]) % data[k].shape[2]
+                data[k][z0:z0 + box.shape[0], y0:y0 + box.shape[1], columns] = box
     return data, attrs
 
 
