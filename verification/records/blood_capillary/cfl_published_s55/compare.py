@@ -3,7 +3,7 @@
 The blood_capillary study measures the layer (`cell_free_layer_um`) from field snapshots,
 which the records do not keep; its stored result (verification/results/blood_capillary,
 full tier) predates the published widths the study now sets beside it
-(CELL_FREE_LAYER_PUBLISHED in verification/studies/blood_capillary.py, with their sources).
+(CELL_FREE_LAYER_PUBLISHED in verification/studies/_blood_references.py, with their sources).
 This applies the study's own comparison to the stored width and writes result.md beside
 this file (or prints it with --print); the study's next full run puts the same metrics in
 its result.
@@ -38,7 +38,7 @@ def main(argv: list[str]) -> int:
         f"{m['achieved_ht']:.3f} in the 20 um tube of cases/capillary_coarse (h = 0.34375 um). "
         "The published widths are in-vivo, rat cremaster arterioles of 20-40 um (30-40 um for "
         "the exclusion zone) at a systemic Ht of 20 %; their sources are in "
-        "CELL_FREE_LAYER_PUBLISHED (verification/studies/blood_capillary.py). The mean layer "
+        "CELL_FREE_LAYER_PUBLISHED (verification/studies/_blood_references.py). The mean layer "
         "is the comparable measure; the exclusion zone is the gap to the cells nearest the "
         "wall, so a mean layer lies above it. Not a like-for-like comparison: in vivo the "
         "vessels are wider, the wall carries an endothelial surface layer, and a systemic Ht "
