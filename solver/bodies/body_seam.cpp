@@ -46,6 +46,18 @@ void for_stored_rows(Field& field, int from, F&& f) {
             f(field.data().data() + field.index(from, j, k), j, k);
 }
 
+/// (Re)allocate `copy` as `like` with an x halo of at least `hx` cells (its y and z halos
+/// as like's), unless it already is one.
+void fit_seam_copy(VelocityField& copy, const VelocityField& like, int hx) {
+    if (copy.dim == like.dim && !copy[0].data().empty() && copy[0].halo()[0] >= hx) return;
+    copy.dim = like.dim;
+    for (int c = 0; c < like.dim; ++c) {
+        const Field& f = like[c];
+        copy[c] = Field(f.name() + "_seam", f.location(), f.begin(), f.cells(), like.dim,
+                        Int3{hx, f.halo()[1], f.halo()[2]});
+    }
+}
+
 } // namespace
 
 void BodySystem::unwrap_occupied(const std::vector<std::size_t>& tracked,
@@ -102,15 +114,7 @@ int BodySystem::seam_halo() const {
 const VelocityField& BodySystem::seam_velocity(const VelocityField& u) {
     if (!any_crosses_seam()) return u;
     const int dim = dec_.dim();
-    const int hx = seam_halo();
-    if (seam_u_.dim != dim || seam_u_[0].data().empty() || seam_u_[0].halo()[0] < hx) {
-        seam_u_.dim = dim;
-        for (int c = 0; c < dim; ++c) {
-            const Field& from = u[c];
-            seam_u_[c] = Field(from.name() + "_seam", from.location(), from.begin(), from.cells(),
-                               dim, Int3{hx, from.halo()[1], from.halo()[2]});
-        }
-    }
+    fit_seam_copy(seam_u_, u, seam_halo());
     for (int c = 0; c < dim; ++c) {
         const Field& from = u[c];
         const int nx = from.cells()[0];
@@ -129,15 +133,7 @@ VelocityField& BodySystem::seam_force(VelocityField& force) {
     force_in_copy_ = any_crosses_seam();
     if (!force_in_copy_) return force;
     const int dim = force.dim;
-    const int hx = seam_halo();
-    if (seam_force_.dim != dim || seam_force_[0].data().empty() || seam_force_[0].halo()[0] < hx) {
-        seam_force_.dim = dim;
-        for (int c = 0; c < dim; ++c) {
-            const Field& to = force[c];
-            seam_force_[c] = Field(to.name() + "_seam", to.location(), to.begin(), to.cells(), dim,
-                                   Int3{hx, to.halo()[1], to.halo()[2]});
-        }
-    }
+    fit_seam_copy(seam_force_, force, seam_halo());
     for (int c = 0; c < dim; ++c)
         seam_force_[c].fill(0);
     return seam_force_;
