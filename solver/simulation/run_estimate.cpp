@@ -26,14 +26,14 @@ constexpr double FLOW_BYTES_PER_CELL = 189;
 //   and slope of peak RSS against cells; the flow's seconds with hypre and the bodies'
 //   patch cells: the blood_capillary study's runs at 128 x 64 x 64
 //   (verification/results/blood_capillary: rate_*).
-constexpr double PROCESS_BYTES = 3.90e+07;
-constexpr double FLOW_BYTES_PER_CELL_HYPRE = 1150;
-constexpr double FLOW_SECONDS_HYPRE = 2.11e-06;
+constexpr double PROCESS_BYTES = 4.04e+07;
+constexpr double FLOW_BYTES_PER_CELL_HYPRE = 1130;
+constexpr double FLOW_SECONDS_HYPRE = 1.29e-06;
 constexpr double HELD_BYTES = 11; // phi alone: 8 B per cell plus the patch's halo
-constexpr double SOLID_BYTES = 656;
-constexpr double SOLID_SECONDS = 1.29e-06;
-constexpr double MEMBRANE_BYTES = 625;
-constexpr double MEMBRANE_SECONDS = 3.80e-07;
+constexpr double SOLID_BYTES = 1390;
+constexpr double SOLID_SECONDS = 8.30e-07;
+constexpr double MEMBRANE_BYTES = 709;
+constexpr double MEMBRANE_SECONDS = 2.90e-07;
 
 } // namespace
 
