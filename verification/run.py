@@ -99,6 +99,16 @@ class Context:
                                f"{res.stdout[-3000:]}\n{res.stderr[-3000:]}")
         return res
 
+    def note_kept_run(self, case: str | Path, outdir: Path, sets: dict | None = None,
+                      ranks: int = 1) -> None:
+        """Record the command of a run taken as made from an earlier study run (cached_run),
+        marked so, so that the result names every run it measured."""
+        cmd = [str(self.efsi), "run", str(case), "--output", str(outdir)]
+        for k, v in (sets or {}).items():
+            cmd += ["--set", f"{k}={v}"]
+        full = self.mpi_prefix(ranks) + cmd
+        self.commands.append(" ".join(full) + "  # made earlier, taken as made")
+
     def run_efsi(self, case: str | Path, outdir: Path, sets: dict | None = None,
                  ranks: int = 1, extra: list[str] | None = None,
                  check: bool = True) -> dict | None:

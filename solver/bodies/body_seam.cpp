@@ -111,6 +111,14 @@ int BodySystem::seam_halo() const {
     return std::min(want, n);
 }
 
+std::size_t BodySystem::seam_copy_bytes() const {
+    std::size_t n = 0;
+    for (const VelocityField* copy : {&seam_u_, &seam_force_})
+        for (int c = 0; c < copy->dim; ++c)
+            n += (*copy)[c].data().size() * sizeof(real);
+    return n;
+}
+
 const VelocityField& BodySystem::seam_velocity(const VelocityField& u) {
     if (!any_crosses_seam()) return u;
     const int dim = dec_.dim();

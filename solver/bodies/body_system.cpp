@@ -56,22 +56,28 @@ BodySystem::BodySystem(const Config& config, const Decomposition& dec, const Hal
         }
         clipped_.push_back(0);
     }
-    // A patch may cross the periodic x seam when the body's kernels touch only the velocity
-    // (read) and the force (added) of the flow, which the seam copies serve: not with the
-    // surface velocity's wide copy, a viscosity of its own (mu), the increment damping's
-    // weight on the membranes, or receptors (adhesion).
-    const bool damped_membranes = config.time.increment_damping > 1 &&
-                                  config.time.increment_damping_on == DampingRegion::Membranes;
-    for (std::size_t i = 0; i < bodies_.size(); ++i) {
-        const BodyConfig& b = config.bodies[i];
-        cross_seam_.push_back(physics_[i]->moves() && !b.carried_by_surface_velocity() &&
-                              physics_[i]->viscosity() == config.fluid.viscosity &&
-                              !config.adhesion.enabled &&
-                              !(damped_membranes && b.kind == BodyKind::Membrane));
-    }
+    for (const BodyConfig& b : config.bodies)
+        cross_seam_.push_back(may_cross_seam(config, b));
 }
 
 BodySystem::~BodySystem() = default;
+
+bool may_cross_seam(const Config& config, const BodyConfig& b) {
+    // A patch may cross the periodic x seam when the body's kernels touch only the velocity
+    // (read) and the force (added) of the flow, which the seam copies serve: not with the
+    // surface velocity's wide copy, a viscosity of its own (mu), the increment damping's
+    // weight on the membranes, or receptors (adhesion). A pinned solid does not move.
+    const real mu = config.fluid.viscosity;
+    const bool moves = !(b.kind == BodyKind::Solid && b.pinned);
+    const real viscosity = b.kind == BodyKind::Solid      ? b.solid_viscosity_or(mu)
+                           : b.kind == BodyKind::Membrane ? b.viscosity_ratio * mu
+                                                          : mu;
+    const bool damped_membrane = config.time.increment_damping > 1 &&
+                                 config.time.increment_damping_on == DampingRegion::Membranes &&
+                                 b.kind == BodyKind::Membrane;
+    return moves && !b.carried_by_surface_velocity() && viscosity == mu &&
+           !config.adhesion.enabled && !damped_membrane;
+}
 
 void BodySystem::initialise() {
     // phi on a box that certainly holds each body, then every patch fitted to its body,

@@ -16,6 +16,12 @@
 
 namespace efsi {
 
+/// Whether body `b`'s patch may cross the periodic x seam as one unwrapped box (docs/method.md,
+/// "Patches across the seam"): a moving body whose kernels read and write only the flow's
+/// velocity and force. Then the bodies work through copies of those two fields with a deep x
+/// halo (BodySystem::seam_copy_bytes; `efsi check` counts them).
+bool may_cross_seam(const Config& config, const BodyConfig& b);
+
 struct BodyDiagnostics {
     std::string name;
     real volume = 0;         ///< sum phi dV [m^3]
@@ -76,6 +82,9 @@ class BodySystem {
     std::vector<TimeStepLimit> time_step_limits() const;
 
     std::vector<BodyDiagnostics> measure() const;
+    /// This rank's bytes held by the copies of the velocity and the force across the periodic
+    /// x seam (0 until a patch first crosses it; they only grow, so this is the run's peak).
+    std::size_t seam_copy_bytes() const;
     /// Largest time step the VOF advection accepts: 0.45 min(dx) / max|u| (0 = no limit).
     static real vof_time_step_limit(const GlobalGrid& g, real max_speed);
 

@@ -1,8 +1,10 @@
 #include "simulation/run_estimate.hpp"
 
+#include "bodies/body_system.hpp"
 #include "membrane/membrane_body.hpp"
 #include "membrane/membrane_force.hpp"
 #include "membrane/membrane_law.hpp"
+#include "parallel/decomposition.hpp"
 #include "solid/solid_mechanics.hpp"
 
 #include <fmt/core.h>
@@ -25,15 +27,16 @@ constexpr double FLOW_BYTES_PER_CELL = 189;
 //   vessel wall): the plasma alone at 64 x 32 x 32 and 128 x 64 x 64 cells, the intercept
 //   and slope of peak RSS against cells; the flow's seconds with hypre and the bodies'
 //   patch cells: the blood_capillary study's runs at 128 x 64 x 64
-//   (verification/results/blood_capillary: rate_*).
+//   (verification/results/blood_capillary: rate_*), each run's copies across the periodic
+//   x seam taken out of its memory (they are counted on their own: seam_copy_bytes).
 constexpr double PROCESS_BYTES = 4.04e+07;
 constexpr double FLOW_BYTES_PER_CELL_HYPRE = 1130;
 constexpr double FLOW_SECONDS_HYPRE = 1.29e-06;
 constexpr double HELD_BYTES = 11; // phi alone: 8 B per cell plus the patch's halo
-constexpr double SOLID_BYTES = 1390;
-constexpr double SOLID_SECONDS = 8.30e-07;
-constexpr double MEMBRANE_BYTES = 709;
-constexpr double MEMBRANE_SECONDS = 2.90e-07;
+constexpr double SOLID_BYTES = 411;
+constexpr double SOLID_SECONDS = 1.01e-06;
+constexpr double MEMBRANE_BYTES = 706;
+constexpr double MEMBRANE_SECONDS = 2.73e-07;
 
 } // namespace
 
@@ -55,21 +58,44 @@ CostRates measured_rates() {
     return r;
 }
 
-double initial_patch_cells(const BodyConfig& b, const GlobalGrid& g) {
+Real3 initial_patch_widths(const BodyConfig& b, const GlobalGrid& g) {
     const Real3 ext = body_half_extent(b, g.dim);
-    double cells = 1;
+    Real3 widths{1, 1, 1};
     for (int d = 0; d < g.dim; ++d) {
         const double h = g.dx(d);
         if (ext[d] < 0) {
-            cells *= g.cells[d];
+            widths[d] = g.cells[d];
             continue;
         }
         // The smoothed profile is cut where phi < 1e-8, 9.2 eps out; a sharp one in its cells.
         const double tail = b.interface == InterfaceKind::Smoothed ? 9.2 * b.smoothing_width : 1;
         const double n = std::ceil(2 * (ext[d] / h + tail + b.margin));
-        cells *= std::min(double(g.cells[d]), n);
+        widths[d] = std::min(double(g.cells[d]), n);
     }
-    return cells;
+    return widths;
+}
+
+double initial_patch_cells(const BodyConfig& b, const GlobalGrid& g) {
+    const Real3 w = initial_patch_widths(b, g);
+    return w[0] * w[1] * w[2];
+}
+
+double seam_copy_bytes(const Config& cfg, const Int3& ranks_per_dim) {
+    const GlobalGrid& g = cfg.grid;
+    if (!periodic_directions(cfg.boundaries)[0] || ranks_per_dim[0] != 1) return 0;
+    double widest = -1;
+    for (const BodyConfig& b : cfg.bodies) {
+        const double w = initial_patch_widths(b, g)[0];
+        if (may_cross_seam(cfg, b) && w < g.cells[0]) widest = std::max(widest, w);
+    }
+    if (widest < 0) return 0;
+    // BodySystem::seam_halo: the reach past the seam plus 4, rounded up to 8, at most n_x.
+    const double hx = std::min(double(g.cells[0]), std::ceil((widest + 4) / 8) * 8);
+    const int halo = 2; // the velocity's and the force's y and z halos
+    double values = g.cells[0] + 2 * hx;
+    for (int d = 1; d < g.dim; ++d)
+        values *= double(g.cells[d]) / ranks_per_dim[d] + 2 * halo;
+    return 2.0 * g.dim * values * sizeof(real);
 }
 
 RunEstimate estimate_run(const Config& cfg, int ranks, const CostRates& r) {
@@ -117,11 +143,13 @@ RunEstimate estimate_run(const Config& cfg, int ranks, const CostRates& r) {
     const double flow_rate = solvers.viscous_fft ? r.flow_seconds_fft : r.flow_seconds_hypre;
     const double flow_bytes =
         solvers.viscous_fft ? r.flow_bytes_per_cell : r.flow_bytes_per_cell_hypre;
-    e.bytes_per_rank =
-        r.process_bytes + (e.cells * flow_bytes + e.held_patch_cells * r.held_bytes_per_patch_cell +
-                           e.solid_patch_cells * r.solid_bytes_per_patch_cell +
-                           e.membrane_patch_cells * r.membrane_bytes_per_patch_cell) /
-                              ranks;
+    e.seam_copy_bytes_per_rank =
+        seam_copy_bytes(cfg, Decomposition::choose_ranks(ranks, g, cfg.ranks));
+    e.bytes_per_rank = r.process_bytes + e.seam_copy_bytes_per_rank +
+                       (e.cells * flow_bytes + e.held_patch_cells * r.held_bytes_per_patch_cell +
+                        e.solid_patch_cells * r.solid_bytes_per_patch_cell +
+                        e.membrane_patch_cells * r.membrane_bytes_per_patch_cell) /
+                           ranks;
     e.seconds_per_step =
         (e.cells * flow_rate + e.solid_patch_cells * r.solid_seconds_per_patch_cell +
          e.membrane_patch_cells * r.membrane_seconds_per_patch_cell) /
@@ -138,9 +166,10 @@ std::string describe(const RunEstimate& e, const Config& cfg, int ranks) {
         "# estimate on {} rank(s) (rates measured on the development machine, one rank, "
         "scaled ideally; docs/performance.md \"Estimates before a run\"):\n"
         "#   memory {:.3g} GB per rank ({:.3g} M cells; body patches {:.3g} M cells of "
-        "membranes, {:.3g} M of solids, {:.3g} M held)\n",
+        "membranes, {:.3g} M of solids, {:.3g} M held; {:.3g} GB of copies across the "
+        "periodic x seam)\n",
         ranks, e.bytes_per_rank / 1e9, e.cells / 1e6, e.membrane_patch_cells / 1e6,
-        e.solid_patch_cells / 1e6, e.held_patch_cells / 1e6);
+        e.solid_patch_cells / 1e6, e.held_patch_cells / 1e6, e.seam_copy_bytes_per_rank / 1e9);
     if (e.dt > 0)
         s += fmt::format("#   step {:.3g} ({}); {:.3g} s per step, {:.3g} s per unit of "
                          "simulated time, {:.3g} h to time.end_time = {:g} (at least: the "

@@ -39,6 +39,9 @@ CostRates measured_rates();
 struct RunEstimate {
     double cells = 0;
     double held_patch_cells = 0, solid_patch_cells = 0, membrane_patch_cells = 0;
+    /// The bodies' copies of the velocity and the force across the periodic x seam (part of
+    /// bytes_per_rank; 0 when no body may cross it or x is split over the ranks).
+    double seam_copy_bytes_per_rank = 0;
     double bytes_per_rank = 0;
     double dt = 0;        ///< [time unit of the case]
     std::string dt_limit; ///< which limit sets it
@@ -49,6 +52,16 @@ struct RunEstimate {
 
 /// Patch cells of one body at its start (its bounding box, tails and margin, cut to the grid).
 double initial_patch_cells(const BodyConfig& b, const GlobalGrid& g);
+/// The same box's width in cells along each direction.
+Real3 initial_patch_widths(const BodyConfig& b, const GlobalGrid& g);
+
+/// Bytes per rank of the seam copies (bodies/body_seam.cpp) once some body's patch crosses
+/// the periodic x seam: two copies (velocity, force) of every velocity component over the
+/// rank's y-z block with their halos and over the whole of x with an x halo of the widest
+/// crossing patch plus 4 cells, rounded up to 8 (BodySystem::seam_halo; a crossing patch
+/// reaches past the seam by less than its width). 0 when x is not periodic, is split over
+/// the ranks (`ranks_per_dim`), or no body may cross (may_cross_seam).
+double seam_copy_bytes(const Config& cfg, const Int3& ranks_per_dim);
 
 RunEstimate estimate_run(const Config& cfg, int ranks, const CostRates& rates = measured_rates());
 

@@ -168,6 +168,7 @@ void write_summary_json(const fs::path& file, const RunSummary& run) {
         double(cfg.grid.total_cells()) * run.steps / std::max(run.wall_seconds, 1e-9);
     j["peak_rss_bytes_max_rank"] = run.memory.max_rank_bytes;
     j["peak_rss_bytes_sum"] = run.memory.sum_bytes;
+    j["seam_copy_bytes_max_rank"] = run.seam_copy_bytes_max_rank;
     nlohmann::json stages;
     for (const auto& [k, v] : run.stage_seconds)
         stages[k] = v;

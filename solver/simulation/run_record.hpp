@@ -60,6 +60,9 @@ struct RunSummary {
     double wall_seconds = 0;
     std::vector<double> load_before; ///< machine_load() at the start of the run
     PeakMemory memory;
+    /// The bytes of the bodies' copies across the periodic x seam, the largest over the
+    /// ranks (part of memory; -1 when the ranks could not be reduced).
+    double seam_copy_bytes_max_rank = 0;
     const std::map<std::string, double>& stage_seconds; ///< rank 0's
     /// Each stage's least and largest seconds over the ranks (empty on one rank, or when the
     /// ranks could not be reduced).

@@ -573,6 +573,11 @@ void Simulation::write_summary(double wall_seconds, const std::string& status,
     const bool all_finished = status == "completed" || status == "max_steps";
     const PeakMemory mem = peak_memory(dec_->comm(), all_finished);
     const auto spread = all_finished ? stage_spread(*dec_, timers_.seconds()) : StageSpread{};
+    // The seam copies' bytes, the largest over the ranks (docs/performance.md, "Estimates
+    // before a run"); -1 when the ranks could not be reduced.
+    const double seam_bytes = !bodies_       ? 0.0
+                              : all_finished ? dec_->max(real(bodies_->seam_copy_bytes()))
+                                             : -1.0;
     if (dec_->rank() != 0) return;
     write_summary_json(
         opt_.output_dir / "summary.json",
@@ -585,6 +590,7 @@ void Simulation::write_summary(double wall_seconds, const std::string& status,
          .wall_seconds = wall_seconds,
          .load_before = load_before_,
          .memory = mem,
+         .seam_copy_bytes_max_rank = seam_bytes,
          .stage_seconds = timers_.seconds(),
          .stage_spread = spread,
          .linear_solvers = stepper_->solver_summary(),

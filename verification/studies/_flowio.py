@@ -163,6 +163,9 @@ def cached_run(ctx, case: Path, out: Path, sets: dict, t_end: float | None = Non
     stopped. ``record`` names the run's record folder when it is not the run's name.
     Raises RunNotMade under EFSI_VERIFY_RECORDS=only when there is nothing to take."""
     if completed(out, t_end, allow_unstable, record):
+        note = getattr(ctx, "note_kept_run", None)
+        if note is not None:
+            note(case, out, sets, ranks)
         return out
     if records_mode() == "only":
         raise RunNotMade(out)

@@ -374,7 +374,12 @@ def estimate_rates(summary: dict) -> dict:
     - a solid's patch cell: the platelets-alone run's body stages per platelet patch cell and
       step, and its peak RSS above the plasma run's per platelet patch cell;
     - a membrane's patch cell: the same between the run with red cells and the platelets
-      alone (the platelets' share removed with the solid rate)."""
+      alone (the platelets' share removed with the solid rate).
+    The copies of the velocity and the force across the periodic x seam (bodies/body_seam.cpp)
+    are the size of the grid, not of the patches: `efsi check` counts them on their own
+    (run_estimate.cpp, seam_copy_bytes), so each run's own (summary.json
+    `seam_copy_bytes_max_rank`) is taken out of its peak RSS before the patches' bytes are
+    derived. Runs made before that key existed (session 57) have none to take out."""
     if any(s.get("ranks", 1) != 1 for s in summary.values()):
         return {}
     pl, sol, cel = summary["plasma"], summary["platelets"], summary["cells"]
@@ -390,18 +395,23 @@ def estimate_rates(summary: dict) -> dict:
     tp = Path(__file__).resolve().parents[1] / "results" / "throughput" / "result.json"
     if tp.exists():
         out["rate_flow_bytes_per_cell"] = json.loads(tp.read_text())["metrics"]["bytes_per_cell"]
+    def rss(s: dict) -> float:
+        return s["peak_rss_bytes_max_rank"] - max(0.0, s.get("seam_copy_bytes_max_rank", 0.0))
+
     p_sol = _patch(sol, "platelet")
     out["rate_solid_seconds_per_patch_cell_step"] = _body_seconds(sol) / sol["steps"] / p_sol
-    out["rate_solid_bytes_per_patch_cell"] = (
-        (sol["peak_rss_bytes_max_rank"] - pl["peak_rss_bytes_max_rank"]) / p_sol)
+    out["rate_solid_bytes_per_patch_cell"] = (rss(sol) - rss(pl)) / p_sol
+    for key, s in (("platelets", sol), ("cells", cel)):
+        if "seam_copy_bytes_max_rank" in s:
+            out[f"seam_copy_bytes_{key}"] = float(s["seam_copy_bytes_max_rank"])
     p_mem, p_sol_c = _patch(cel, "rbc"), _patch(cel, "platelet")
     if p_mem > 0:
         solid_share = out["rate_solid_seconds_per_patch_cell_step"] * p_sol_c
         out["rate_membrane_seconds_per_patch_cell_step"] = (
             (_body_seconds(cel) / cel["steps"] - solid_share) / p_mem)
         out["rate_membrane_bytes_per_patch_cell"] = (
-            (cel["peak_rss_bytes_max_rank"] - sol["peak_rss_bytes_max_rank"]
-             - out["rate_solid_bytes_per_patch_cell"] * (p_sol_c - p_sol)) / p_mem)
+            (rss(cel) - rss(sol) - out["rate_solid_bytes_per_patch_cell"] * (p_sol_c - p_sol))
+            / p_mem)
     return out
 
 

@@ -41,3 +41,33 @@ def test_estimate_rates_are_the_stored_measurements():
         assert name in have, f"run_estimate.cpp has no {name}"
         # The C++ holds them to 3 significant digits.
         assert abs(have[name] - measured) <= 5e-3 * abs(measured), (name, have[name], measured)
+
+
+def test_seam_copies_are_taken_out_before_the_patch_bytes():
+    """The copies across the periodic x seam are the grid's size: estimate_rates removes each
+    run's own (summary.json seam_copy_bytes_max_rank) from its peak memory, so they are not
+    charged to the few platelet patch cells (run_estimate.cpp counts them on their own)."""
+    import sys
+    sys.path.insert(0, str(REPO / "verification" / "studies"))
+    from blood_capillary import estimate_rates
+
+    def run(rss, seam, platelets, cells, seconds=1.0):
+        bodies = ([{"name": f"platelet_{i}", "patch_cells": 1000} for i in range(platelets)]
+                  + [{"name": f"rbc_{i}", "patch_cells": 5000} for i in range(cells)])
+        s = {"ranks": 1, "cells": 8000, "steps": 10, "peak_rss_bytes_max_rank": rss,
+             "stages": {"bodies_vof": seconds, "viscous_solve": 2.0}, "bodies": bodies}
+        if seam is not None:
+            s["seam_copy_bytes_max_rank"] = seam
+        return s
+
+    plasma = run(1.0e8, 0.0, 0, 0)
+    platelets = run(1.0e8 + 4 * 1000 * 600 + 3.0e7, 3.0e7, 4, 0)
+    cells = run(platelets["peak_rss_bytes_max_rank"] + 10 * 5000 * 700 + 1.0e7, 4.0e7, 4, 10)
+    r = estimate_rates({"plasma": plasma, "platelets": platelets, "cells": cells})
+    assert r["rate_solid_bytes_per_patch_cell"] == pytest.approx(600)
+    assert r["rate_membrane_bytes_per_patch_cell"] == pytest.approx(700)
+    assert r["seam_copy_bytes_platelets"] == 3.0e7 and r["seam_copy_bytes_cells"] == 4.0e7
+    # Without the key (runs made before it existed) the copies stay in the patches' bytes.
+    before = {k: v for k, v in platelets.items() if k != "seam_copy_bytes_max_rank"}
+    old = estimate_rates({"plasma": plasma, "platelets": before, "cells": cells})
+    assert old["rate_solid_bytes_per_patch_cell"] == pytest.approx(600 + 3.0e7 / 4000)
