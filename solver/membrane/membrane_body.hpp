@@ -19,6 +19,7 @@
 #include "solid/tensor_extension.hpp"
 
 #include <memory>
+#include <string>
 
 namespace efsi {
 
@@ -65,5 +66,12 @@ class MembraneBody final : public BodyPhysics {
     /// The reference surface the map is projected onto (map_projection; none for a mask).
     std::unique_ptr<Shape> reference_shape_;
 };
+
+/// A possible cause worth naming when a run with membranes blows up (appended to the
+/// UNSTABLE message): with the layered extension of Gs, Gs carried by the surface velocity
+/// over a wide reach is unstable for stiff membranes; with the reference map (the default), a
+/// body a few cells thick; with Gs carried by the surface velocity, a body thinner than its
+/// band. Empty when no body qualifies.
+std::string membrane_instability_hint(const Config& cfg);
 
 } // namespace efsi

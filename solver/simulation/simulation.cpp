@@ -5,7 +5,7 @@
 #include "core/error.hpp"
 #include "flow/initial_conditions.hpp"
 #include "io/field_output.hpp"
-#include "membrane/surface_velocity.hpp"
+#include "membrane/membrane_body.hpp"
 #include "parallel/peak_memory.hpp"
 #include "simulation/run_record.hpp"
 #include "time/time_step_control.hpp"
@@ -22,51 +22,6 @@
 namespace efsi {
 
 namespace fs = std::filesystem;
-
-namespace {
-
-/// A possible cause worth naming when a run with membranes blows up: with the layered
-/// extension of Gs (strain_extension = "layers"), Gs carried by the surface velocity over a
-/// wide reach is unstable for stiff membranes (docs/method.md, "The reach of the surface
-/// velocity, and stiff membranes"); with the reference map (the default), a body a few cells
-/// thick (docs/method.md, "The reference map"). Empty when no body qualifies.
-std::string membrane_instability_hint(const Config& cfg) {
-    std::string names, maps, carried;
-    auto append = [](std::string& list, const std::string& name) {
-        list += (list.empty() ? "'" : ", '") + name + "'";
-    };
-    for (const BodyConfig& b : cfg.bodies) {
-        if (b.carried_by_surface_velocity() && b.strain_extension == StrainExtension::Layers &&
-            b.surface_velocity_reach > SurfaceVelocity::stiff_membrane_reach)
-            append(names, b.name);
-        else if (b.carried_by_surface_velocity() && !b.carries_reference_map())
-            append(carried, b.name);
-        if (b.carries_reference_map()) append(maps, b.name);
-    }
-    if (names.empty() && maps.empty() && !carried.empty())
-        return fmt::format(". Membranes that carry Gs with the surface velocity ({}) can grow "
-                           "their strain by themselves where the body is thinner than its band "
-                           "(phi never reaches 1/2 there: a red cell on a coarse grid, pressed "
-                           "against a wall); refine the grid or set body.strain_velocity = "
-                           "\"local\" (docs/method.md, \"The red cells of capillary_coarse\")",
-                           carried);
-    if (names.empty() && !maps.empty())
-        return fmt::format(". Membranes carried by a reference map ({}) lose it where the body "
-                           "is only a few cells thick (the two faces' bands overlap: the tips "
-                           "of a strongly deformed capsule at d/16); refine the grid there or "
-                           "set body.strain_model = \"tensor\" (docs/method.md, \"The "
-                           "reference map\")",
-                           maps);
-    if (names.empty()) return "";
-    const real r = SurfaceVelocity::stiff_membrane_reach;
-    return fmt::format(". Membranes with strain_extension = \"layers\" that carry Gs with the "
-                       "surface velocity over more than {} cells ({}) are unstable when stiff, "
-                       "whatever dt; if yours is stiff, set body.surface_velocity_reach = {} "
-                       "or use the default strain_extension = \"normal\" (docs/method.md)",
-                       r, names, r);
-}
-
-} // namespace
 
 Simulation::Simulation(const Config& config, const RunOptions& options, MPI_Comm world)
     : cfg_(config), opt_(options) {
