@@ -105,10 +105,11 @@ int BodySystem::seam_halo() const {
     for (const auto& b : bodies_)
         if (b->patch().crosses_seam())
             past = std::max({past, -b->patch().global.lo[0], b->patch().global.hi[0] - n});
-    // The kernels' stencils reach the patch fields' halo (2 cells) and a face beyond; rounded
-    // up to 8 so that a copy is reallocated only when the patches reach further.
-    const int want = (past + 4 + 7) / 8 * 8;
-    return std::min(want, n);
+    return seam_halo_cells(past, n);
+}
+
+int seam_halo_cells(int past, int n) {
+    return std::min((past + 4 + 7) / 8 * 8, n);
 }
 
 std::size_t BodySystem::seam_copy_bytes() const {

@@ -21,6 +21,11 @@ namespace efsi {
 /// velocity and force. Then the bodies work through copies of those two fields with a deep x
 /// halo (BodySystem::seam_copy_bytes; `efsi check` counts them).
 bool may_cross_seam(const Config& config, const BodyConfig& b);
+/// The x halo (cells) of the seam copies for patches reaching `past` cells beyond the seam on a
+/// periodic x of `n` cells: the kernels' reach past a patch (its fields' 2 halo cells and a
+/// face) added, rounded up to 8 so that a copy is reallocated only when the patches reach
+/// further, at most n.
+int seam_halo_cells(int past, int n);
 
 struct BodyDiagnostics {
     std::string name;

@@ -83,14 +83,14 @@ double initial_patch_cells(const BodyConfig& b, const GlobalGrid& g) {
 double seam_copy_bytes(const Config& cfg, const Int3& ranks_per_dim) {
     const GlobalGrid& g = cfg.grid;
     if (!periodic_directions(cfg.boundaries)[0] || ranks_per_dim[0] != 1) return 0;
-    double widest = -1;
+    int widest = -1;
     for (const BodyConfig& b : cfg.bodies) {
-        const double w = initial_patch_widths(b, g)[0];
+        const int w = int(initial_patch_widths(b, g)[0]);
         if (may_cross_seam(cfg, b) && w < g.cells[0]) widest = std::max(widest, w);
     }
     if (widest < 0) return 0;
-    // BodySystem::seam_halo: the reach past the seam plus 4, rounded up to 8, at most n_x.
-    const double hx = std::min(double(g.cells[0]), std::ceil((widest + 4) / 8) * 8);
+    // A crossing patch reaches past the seam by less than its width.
+    const double hx = seam_halo_cells(widest, g.cells[0]);
     const int halo = 2; // the velocity's and the force's y and z halos
     double values = g.cells[0] + 2 * hx;
     for (int d = 1; d < g.dim; ++d)
