@@ -103,22 +103,23 @@ class Context:
                       ranks: int = 1) -> None:
         """Record the command of a run taken as made from an earlier study run (cached_run),
         marked so, so that the result names every run it measured."""
-        cmd = [str(self.efsi), "run", str(case), "--output", str(outdir)]
+        full = self.mpi_prefix(ranks) + [str(c) for c in self.efsi_command(case, outdir, sets)]
+        self.commands.append(" ".join(full) + "  # made earlier, taken as made")
+
+    def efsi_command(self, case: str | Path, outdir: Path, sets: dict | None = None,
+                     extra: list[str] | None = None) -> list:
+        """`efsi run` of a case into outdir with its --set options (no MPI prefix)."""
+        cmd = [self.efsi, "run", case, "--output", outdir]
         for k, v in (sets or {}).items():
             cmd += ["--set", f"{k}={v}"]
-        full = self.mpi_prefix(ranks) + cmd
-        self.commands.append(" ".join(full) + "  # made earlier, taken as made")
+        return cmd + (extra or [])
 
     def run_efsi(self, case: str | Path, outdir: Path, sets: dict | None = None,
                  ranks: int = 1, extra: list[str] | None = None,
                  check: bool = True) -> dict | None:
         """Run the C++ solver on a case and return its summary.json as a dict (None when
         an unchecked run wrote none)."""
-        cmd = [self.efsi, "run", case, "--output", outdir]
-        for k, v in (sets or {}).items():
-            cmd += ["--set", f"{k}={v}"]
-        cmd += extra or []
-        self.run(cmd, ranks=ranks, check=check)
+        self.run(self.efsi_command(case, outdir, sets, extra), ranks=ranks, check=check)
         summary = Path(outdir) / "summary.json"
         return json.loads(summary.read_text()) if summary.exists() else None
 
