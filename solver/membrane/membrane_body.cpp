@@ -17,7 +17,7 @@ real membrane_time_step_limit(const GlobalGrid& g, real density, real viscosity,
     real h = g.dx(0);
     for (int d = 1; d < g.dim; ++d)
         h = std::min(h, g.dx(d));
-    const real viscous = 4 * viscosity * h / es_max;
+    const real viscous = kMembraneViscousFactor * viscosity * h / es_max;
     const real inertial = std::sqrt(density * h * h * h / (2 * 3.141592653589793 * es_max));
     return std::max(viscous, inertial);
 }

@@ -24,14 +24,17 @@
 namespace efsi {
 
 /// Explicit membrane force limit (0 without membranes): the larger of the viscous and the
-/// inertial capillary-type limits, 4 mu h / K and sqrt(rho h^3 / (2 pi K)), K the stiffest
-/// small-strain modulus of the laws in the scene (MembraneLaw::stiffest_modulus; Es for the
-/// neo-Hookean law). Galusinski & Vigneaux 2008 show the stable step follows the viscous one
-/// at low Re and the inertial one, Brackbill et al. 1992, at high Re. The factor 4 is
-/// measured (docs/method.md, "Membranes in the time step"): at Re = 0.01 the neo-Hookean
-/// capsule runs stably up to 8 mu h / Es (2D d/16, Ca 0.002: 12 mu h / Es blows up; 3D d/8
-/// Ca 0.0125 and d/16 Ca 0.0125 stable at 8 mu h / Es), so with cfl = 0.5 the automatic step
-/// 2 mu h / K keeps a margin of 4 while D(t) changes by < 5e-4.
+/// inertial capillary-type limits, c mu h / K (c = kMembraneViscousFactor) and
+/// sqrt(rho h^3 / (2 pi K)), K the stiffest small-strain modulus of the laws in the scene
+/// (MembraneLaw::stiffest_modulus; Es for the neo-Hookean law). Galusinski & Vigneaux 2008
+/// show the stable step follows the viscous one at low Re and the inertial one, Brackbill et
+/// al. 1992, at high Re. The factor is measured, as the solids' limit is (docs/method.md,
+/// "Membranes in the time step"): with a fixed step the explicit force ran stably at or
+/// above 10 mu h / K in every case tried (capsules, neo-Hookean and Skalak C = 10 and 100, d/8 to
+/// d/32; the red cell of rbc_in_tube at C = 10 and 100), and 12 mu h / K stopped the C = 100
+/// red cell; with time.cfl = 0.5 the automatic step keeps a margin of 2 below it.
+inline constexpr real kMembraneViscousFactor = 10;
+
 real membrane_time_step_limit(const GlobalGrid& grid, real density, real viscosity, real es_max);
 
 class MembraneBody final : public BodyPhysics {

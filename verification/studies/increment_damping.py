@@ -1,6 +1,6 @@
 """Increment damping (time.increment_damping = F): steps saved against accuracy lost.
 
-A stiff membrane's explicit force limits the time step to dt <= cfl 4 mu h / K (K the
+A stiff membrane's explicit force limits the time step to dt <= cfl 10 mu h / K (K the
 area-dilation modulus: 14 Es for a Skalak membrane at C = 10), which at low Reynolds
 number sets the cost of the red-cell and stiff-capsule runs. With F > 1 the implicit
 viscous solve also damps the velocity increment, b lap_h (v* - v^n) with
