@@ -6,7 +6,7 @@
 #
 #   SPAN=1.0 bash verification/records/capsule_longtime/dt_margin_s57/continue.sh CKPT 6 10
 #
-# Runs go to /tmp/dtprobe_F<F>; compare.py sets their bodies.csv beside the run's own.
+# Runs go to /tmp/dtprobe_F<F> (PREFIX overrides /tmp/dtprobe_F); compare.py sets their bodies.csv beside the run's own.
 set -u
 REPO=$(cd "$(dirname "$0")/../../../.." && pwd)
 CKPT=$1
@@ -16,7 +16,7 @@ T0=$(/usr/bin/python3 -c "import h5py; print(h5py.File('$CKPT')['/'].attrs['time
 for F in "$@"; do
     DT=$(/usr/bin/python3 -c "print(4.664179104477612e-05 * $F)")
     END=$(/usr/bin/python3 -c "print($T0 + $SPAN)")
-    OUT=/tmp/dtprobe_F$F
+    OUT=${PREFIX:-/tmp/dtprobe_F}$F
     rm -rf "$OUT"
     "$REPO/build/bin/efsi" run "$REPO/cases/capsule_shear" --output "$OUT" -q \
         --set 'grid.cells=[64,64,64]' --set 'grid.length=[8.0,8.0,8.0]' \

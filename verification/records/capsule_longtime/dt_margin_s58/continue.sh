@@ -1,29 +1,9 @@
 #!/bin/bash
 # The d/16 Skalak C = 100 capsule (Ca 0.025) continued from a checkpoint of capsule_longtime's
-# own run with a fixed time.dt = F x its automatic step (4.664179e-5), for SPAN shear times.
+# own run with a fixed time.dt = F x its automatic step of the time (4.664179e-5), for SPAN
+# shear times: session 57's continue.sh with the runs in /tmp/dtprobe58_F<F>.
 # The checkpoint used in session 58: that run's checkpoint.h5 at step 101 700, t = 4.7435
 # (copied from build/verification/capsule_longtime/runs/ca0.025_n64_skalak_C100_t20; not kept).
 #
 #   SPAN=2.0 bash verification/records/capsule_longtime/dt_margin_s58/continue.sh CKPT 4
-#
-# Runs go to /tmp/dtprobe58_F<F>.
-set -u
-REPO=$(cd "$(dirname "$0")/../../../.." && pwd)
-CKPT=$1
-shift
-SPAN=${SPAN:-0.14}
-T0=$(/usr/bin/python3 -c "import h5py; print(h5py.File('$CKPT')['/'].attrs['time'])")
-for F in "$@"; do
-    DT=$(/usr/bin/python3 -c "print(4.664179104477612e-05 * $F)")
-    END=$(/usr/bin/python3 -c "print($T0 + $SPAN)")
-    OUT=/tmp/dtprobe58_F$F
-    rm -rf "$OUT"
-    "$REPO/build/bin/efsi" run "$REPO/cases/capsule_shear" --output "$OUT" -q \
-        --set 'grid.cells=[64,64,64]' --set 'grid.length=[8.0,8.0,8.0]' \
-        --set 'grid.origin=[-4.0,-4.0,-4.0]' --set body[0].elastic_modulus=40.0 \
-        --set output.fields_interval=20.0 --set output.checkpoint_every=100000 \
-        --set output.progress_every=100000 --set body[0].law=\"skalak\" \
-        --set body[0].area_dilation=100.0 --set output.diagnostics_every=20 \
-        --set time.dt=$DT --set time.end_time=$END --restart "$CKPT" > "$OUT.log" 2>&1
-    echo "F=$F rc=$? $(tail -1 "$OUT.log")"
-done
+PREFIX=/tmp/dtprobe58_F exec bash "$(dirname "$0")/../dt_margin_s57/continue.sh" "$@"

@@ -9,12 +9,8 @@ D at the end of the F = 1 run's span for comparison.
     /usr/bin/python3 verification/records/capsule_longtime/dt_margin_s58/survey.py \\
         --cells 8 --ca 0.025 --law skalak --c 100 --end 2 1 2 4 8 12
 
-Runs go to /tmp/dts58_<name>_F<F>."""
+Runs go to /tmp/dts58_<name>_F<F>. The binary: EFSI_BIN, else build/bin/efsi (survey_case.py)."""
 import argparse
-import csv
-import os
-import re
-import subprocess
 import sys
 from pathlib import Path
 
@@ -22,8 +18,9 @@ REPO = Path(__file__).resolve().parents[4]
 sys.path.insert(0, str(REPO / "verification" / "studies"))
 from capsule_longtime import run_sets  # noqa: E402
 
-# EFSI_BIN: a copy of the binary, so that a rebuild during a survey leaves it alone.
-EFSI = os.environ.get("EFSI_BIN", str(REPO / "build" / "bin" / "efsi"))
+sys.path.insert(0, str(Path(__file__).resolve().parent))
+from survey_case import automatic_step, run_fixed  # noqa: E402
+
 CASE = str(REPO / "cases" / "capsule_shear")
 
 p = argparse.ArgumentParser()
@@ -41,24 +38,15 @@ name = f"n{a.cells}_ca{a.ca:g}_{a.law}" + (f"_C{a.c:g}" if a.law == "skalak" els
 args = []
 for k, v in run_sets(a.cells, a.ca, a.end, a.law, a.c, a.eb).items():
     args += ["--set", f"{k}={v}"]
-check = subprocess.run([EFSI, "check", CASE, *args, "--ranks", "1"], capture_output=True,
-                       text=True, check=True).stdout
-m = re.search(r"#   step ([0-9.e+-]+) \(([^)]*)\)", check)
-dt_auto = float(m.group(1))
-print(f"{name} dt_auto {dt_auto!r} (binding: {m.group(2)})", flush=True)
+dt_auto, binding = automatic_step(CASE, args)
+print(f"{name} dt_auto {dt_auto!r} (binding: {binding})", flush=True)
 for f in a.factors:
     out = Path(f"/tmp/dts58_{name}_F{f:g}")
-    subprocess.run(["rm", "-rf", str(out)], check=True)
-    r = subprocess.run([EFSI, "run", CASE, "-o", str(out), "-q", *args,
-                        "--set", f"time.dt={f * dt_auto!r}",
-                        "--set", "output.checkpoint_every=100000",
-                        "--set", "output.diagnostics_every=10"], capture_output=True, text=True)
-    rows = list(csv.DictReader(open(out / "bodies.csv"))) if (out / "bodies.csv").exists() else []
+    rc, rows, err = run_fixed(CASE, out, args, f * dt_auto, [])
     d = float(rows[-1]["taylor_deformation"]) if rows else float("nan")
     tr = max(float(x["tensor_trace_max"]) for x in rows) if rows else float("nan")
     area = max(abs(float(x["area"]) / float(rows[0]["area"]) - 1) for x in rows) if rows \
         else float("nan")
     t = float(rows[-1]["time"]) if rows else 0.0
-    err = r.stderr.strip().splitlines()
-    print(f"{name} F={f:g} rc={r.returncode} t={t:.4f} D={d:.6f} max_trGs={tr:.4f} "
-          f"max_area_change={area:.5f} {err[-1][:160] if err else ''}", flush=True)
+    print(f"{name} F={f:g} rc={rc} t={t:.4f} D={d:.6f} max_trGs={tr:.4f} "
+          f"max_area_change={area:.5f} {err[:160]}", flush=True)
