@@ -22,6 +22,12 @@ real membrane_time_step_limit(const GlobalGrid& g, real density, real viscosity,
     return std::max(viscous, inertial);
 }
 
+real resolvable_reference_curvature(real kappa, real h) {
+    if (std::isnan(kappa)) return 0;
+    const real bound = 4 / h;
+    return std::clamp(kappa, -bound, bound);
+}
+
 MembraneBody::MembraneBody(const BodyConfig& b, const BodyContext& ctx) : BodyPhysics(b, ctx) {
     const Config& run = ctx.run;
     law_ = make_membrane_law(b.law, b.elastic_modulus, b.area_dilation);
@@ -124,13 +130,14 @@ void MembraneBody::initialise_reference_curvature(Body& body, const Shape& shape
         // (h/100)^2 relative, round-off ~1e-16 |L| / (h/100)^2, both below 1e-7.
         // In 3D a shape with a closed form (the sphere, the red cell's distance) gives it
         // directly: one nearest-point search per cell instead of 19 level evaluations.
-        const real s = 1e-2 * g.dx(0);
+        const real h = g.dx(0); // cubic cells (the config reader enforces it)
+        const real s = 1e-2 * h;
         for_each_in(body.phi().owned(), [&](int a, int b, int c) {
             const Real3 x = image_near(position(g, ctx_.dec.block(), Location::Cell, a, b, c),
                                        shape->centre(), g, ctx_.dec.periodic());
             if (g.dim == 3) {
                 if (const real k = shape->level_set_mean_curvature(x); !std::isnan(k)) {
-                    (*kr)(a, b, c) = k;
+                    (*kr)(a, b, c) = resolvable_reference_curvature(k, h);
                     return;
                 }
             }
@@ -152,7 +159,7 @@ void MembraneBody::initialise_reference_curvature(Body& body, const Shape& shape
                         (L(d, 1, e, 1) - L(d, 1, e, -1) - L(d, -1, e, 1) + L(d, -1, e, -1)) /
                         (4 * s * s);
             }
-            (*kr)(a, b, c) = level_set_curvature(H, grad, g.dim);
+            (*kr)(a, b, c) = resolvable_reference_curvature(level_set_curvature(H, grad, g.dim), h);
         });
         ctx_.halos.fill(*kr, body.patch());
     }

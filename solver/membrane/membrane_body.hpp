@@ -37,6 +37,17 @@ inline constexpr real kMembraneViscousFactor = 10;
 
 real membrane_time_step_limit(const GlobalGrid& grid, real density, real viscosity, real es_max);
 
+/// The reference curvature a cell holds: the curvature of the shape's level set through it,
+/// clamped to [-4/h, 4/h], and 0 where it is not a number. Near a focal point of the surface
+/// the level sets curve without bound, and at the focal point itself they have no curvature
+/// (the distance is not differentiable there): on a red cell's axis, about a dimple curvature
+/// radius outside the dimple, rbc_in_tube on 70 x 35 x 35 cells had kappa_R = -1e15 and NaN
+/// in cells on the axis, which the transport carried into the band in four steps. No
+/// curvature sampled on the grid (central differences of psi, a distance, over cells of size
+/// h) exceeds about 4/h: a level set that curves more is not resolved (docs/method.md,
+/// "Membrane bending").
+real resolvable_reference_curvature(real kappa, real h);
+
 class MembraneBody final : public BodyPhysics {
   public:
     MembraneBody(const BodyConfig& body, const BodyContext& ctx);

@@ -59,6 +59,58 @@ interface = "smoothed"
     EXPECT_LT(efsi::test::global_max(trace), 1e-8);
 }
 
+// rbc_in_tube's red cell on 70 x 35 x 35 cells (h = 24/70): 35 cells put cell centres on
+// its axis, some about a dimple curvature radius outside the dimple, at a focal point of the
+// surface where the level sets' curvature is unbounded (-1e15 in one cell, NaN in 21 before
+// the bound). kappa_R must be finite and within 4/h everywhere, and the bound must act only
+// far from the membrane.
+TEST(MembraneBody, ReferenceCurvatureIsBoundedOnTheRedCellsAxis) {
+    Bodies s(grid_toml("[70, 35, 35]", "[24.0, 12.0, 12.0]") + R"(
+[[body]]
+name = "rbc"
+kind = "membrane"
+shape = "biconcave"
+centre = [8.0, 6.0, 6.0]
+radius = 3.91
+axis = [0.0, 1.0, 0.0]
+angle = 1.5707963267948966
+interface = "smoothed"
+law = "skalak"
+elastic_modulus = 9.0
+area_dilation = 10.0
+bending_modulus = 0.2
+)");
+    const Body& b = s.body(0);
+    ASSERT_NE(b.reference_curvature(), nullptr);
+    const real h = 24.0 / 70;
+    real worst = 0, nonfinite = 0, bounded = 0, bounded_phi = 0;
+    if (!b.patch().empty())
+        for_each_in(b.phi().owned(), [&](int i, int j, int k) {
+            const real kr = (*b.reference_curvature())(i, j, k);
+            if (!std::isfinite(kr)) {
+                ++nonfinite;
+                return;
+            }
+            worst = std::max(worst, std::abs(kr));
+            if (std::abs(kr) == 4 / h || kr == 0) {
+                ++bounded;
+                bounded_phi = std::max(bounded_phi, b.phi()(i, j, k));
+            }
+        });
+    EXPECT_EQ(efsi::test::global_max(nonfinite), 0.0);
+    EXPECT_LE(efsi::test::global_max(worst), 4 / h);
+    // The bound acted (this grid is the one that failed), and only where phi < 1e-3.
+    EXPECT_GT(s.dec.sum(bounded), 0.0);
+    EXPECT_LT(efsi::test::global_max(bounded_phi), 1e-3);
+}
+
+TEST(MembraneBody, ResolvableReferenceCurvatureClampsAndZeroesNaN) {
+    EXPECT_EQ(resolvable_reference_curvature(1.5, 0.5), 1.5);
+    EXPECT_EQ(resolvable_reference_curvature(-1e15, 0.5), -8.0);
+    EXPECT_EQ(resolvable_reference_curvature(INFINITY, 0.5), 8.0);
+    EXPECT_EQ(resolvable_reference_curvature(std::nan(""), 0.5), 0.0);
+}
+
 TEST(MembraneLimit, ViscousAtLowReynoldsInertialAtHigh) {
     GlobalGrid g;
     g.cells = {24, 20, 1};
