@@ -36,6 +36,7 @@ void FftSolver::Impl::tridiagonal() {
     const real s_lo = side(dir.low), s_hi = side(dir.high);
     const bool neumann = s_lo == 1.0 && s_hi == 1.0;
     const real inv_norm = 1.0 / norm;
+    const real a = alpha, b = beta;
     const auto& l0 = t[0].lambda;
     work.resize(std::size_t(N) * std::size_t(nx));
     zero.resize(std::size_t(nx));
@@ -66,21 +67,22 @@ void FftSolver::Impl::tridiagonal() {
         if (singular) zero_mean_of_singular_line();
         // forward elimination (the row before the first is zero: no coupling there)
         for (int j = first; j < N; ++j) {
-            real* row = base + j * stride[T];
+            real* __restrict row = base + j * stride[T];
             const real e = g * (2.0 - (j == first ? s_lo : 0.0) - (j == N - 1 ? s_hi : 0.0));
-            real* cp = work.data() + std::size_t(j) * nx;
-            const real* prev = j == first ? zero.data() : row - stride[T];
-            const real* cprev = j == first ? zero.data() : cp - nx;
-            const real* lx = l0.data() + bb.lo[0];
-            // Branch-free, so that it vectorises: a zero pivot divides by 1 and its results
-            // are then set to zero (a nonzero one divides exactly as before).
+            real* __restrict cp = work.data() + std::size_t(j) * nx;
+            const real* __restrict prev = j == first ? zero.data() : row - stride[T];
+            const real* __restrict cprev = j == first ? zero.data() : cp - nx;
+            const real* __restrict lx = l0.data() + bb.lo[0];
+            // Branch-free, with arithmetic masks rather than selects and on locals only (the
+            // members could alias the rows), so that GCC vectorises it: a zero pivot divides
+            // by 1 and its results are multiplied by 0; a nonzero one divides and is
+            // multiplied by 1, exactly as a plain division.
             for (int i = 0; i < nx; ++i) {
-                const real den = alpha + beta * (lx[i] + lq) + e + g * cprev[i];
-                const bool ok = den != 0;
-                const real d = ok ? den : 1.0;
-                const real c = -g / d, r = (row[i] * inv_norm + g * prev[i]) / d;
-                cp[i] = ok ? c : 0.0;
-                row[i] = ok ? r : 0.0;
+                const real den = a + b * (lx[i] + lq) + e + g * cprev[i];
+                const real singular_pivot = den == 0 ? 1.0 : 0.0;
+                const real d = den + singular_pivot, keep = 1.0 - singular_pivot;
+                cp[i] = (-g / d) * keep;
+                row[i] = ((row[i] * inv_norm + g * prev[i]) / d) * keep;
             }
         }
         // back substitution
