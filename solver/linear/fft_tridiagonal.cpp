@@ -132,6 +132,22 @@ void solve_cyclic(int P, const real* a, const real* d, const real* c, const real
     for (int r = 0; r < P; ++r)
         x[r] -= f * z[r];
 }
+
+/// One row of the distributed solve's forward elimination (Thomas on T'): the pivots' c'
+/// (cp), the running product of -c' (pr) and the eliminated right-hand side (r, in place).
+/// A function of its own so that the restrict-qualified arguments let GCC vectorise it (the
+/// same loop inline stays scalar: "no vectype for stmt").
+void eliminate_row(int nx, real g, real inv_norm, const real* __restrict D,
+                   const real* __restrict cprev, const real* __restrict prprev,
+                   const real* __restrict prev, real* __restrict cp, real* __restrict pr,
+                   real* __restrict r) {
+    for (int i = 0; i < nx; ++i) {
+        const real inv = 1.0 / (D[i] + g * cprev[i]);
+        cp[i] = -g * inv;
+        pr[i] = g * inv * prprev[i];
+        r[i] = (r[i] * inv_norm + g * prev[i]) * inv;
+    }
+}
 } // namespace
 
 // With alpha = 0 the lines whose other wavenumbers are both zero are singular along z: each
@@ -222,14 +238,9 @@ void FftSolver::Impl::distributed_tridiagonal() {
             real* __restrict pr = coupling.data() + std::size_t(k) * nx; // prod of -c'
             const real* __restrict prprev = k == 0 ? one.data() : pr - nx;
             if (k < n) {
-                real* __restrict r = base + k * plane;
-                const real* __restrict prev = k == 0 ? zero.data() : r - plane;
-                for (int i = 0; i < nx; ++i) {
-                    const real inv = 1.0 / (D[i] + g * cprev[i]);
-                    cp[i] = -g * inv;
-                    pr[i] = g * inv * prprev[i];
-                    r[i] = (r[i] * inv_norm + g * prev[i]) * inv;
-                }
+                real* r = base + k * plane;
+                eliminate_row(nx, g, inv_norm, D, cprev, prprev, k == 0 ? zero.data() : r - plane,
+                              cp, pr, r);
             } else {
                 for (int i = 0; i < nx; ++i) {
                     const real inv = 1.0 / (D[i] + g * cprev[i]);
