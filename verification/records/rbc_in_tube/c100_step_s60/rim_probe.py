@@ -7,6 +7,7 @@ this script's output is, in rim_probe_F1.txt and rim_probe_F4.txt.
     /usr/bin/python3 verification/records/rbc_in_tube/c100_step_s60/rim_probe.py F1/checkpoint.h5
 """
 import sys
+from pathlib import Path
 
 import h5py
 import numpy as np
@@ -25,7 +26,8 @@ def probe(path: str) -> str:
         t = float(f.attrs["time"])
     band = (phi > 1e-3) & (phi < 0.9) & (np.abs(trace - 3) > 1e-9)
     order = np.argsort(np.where(band, trace, 0).ravel())[::-1][:8]
-    out = [f"{path} at t = {t:g} ms: largest tr Gs in the band (1e-3 < phi < 0.9)"]
+    run = Path(path).resolve().parent.name  # the run's folder, not where it lay
+    out = [f"{run}/{Path(path).name} at t = {t:g} ms: largest tr Gs in the band (1e-3 < phi < 0.9)"]
     for q in order:
         k, j, i = np.unravel_index(q, phi.shape)
         x, y, z = (i + lo[0] + 0.5) * H, (j + 0.5) * H, (k + 0.5) * H
