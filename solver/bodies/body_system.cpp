@@ -46,6 +46,7 @@ BodySystem::BodySystem(const Config& config, const Decomposition& dec, const Hal
         bodies_.push_back(std::make_unique<Body>(b.name, b.kind, b.bending, dec.dim(),
                                                  physics_.back()->carries_tensor(),
                                                  b.carries_reference_map()));
+        if (b.carried_by_surface_velocity()) surface_velocity_bodies_.push_back(bodies_.size() - 1);
         if (b.carried_by_surface_velocity() && !surface_velocity_) {
             // One instance for every membrane: its halo covers the largest reach asked for.
             real reach = 0;
@@ -307,7 +308,12 @@ void BodySystem::advance(const VelocityField& u, real dt, long step, StageTimers
     std::vector<VofStepStats> local(bodies_.size());
     // One copy of u with wide halos per step serves every membrane's surface velocity.
     if (surface_velocity_)
-        timers.time("bodies_surface_velocity", [&] { surface_velocity_->load(u); });
+        timers.time("bodies_surface_velocity", [&] {
+            std::vector<Box> patches;
+            for (std::size_t i : surface_velocity_bodies_)
+                patches.push_back(bodies_[i]->patch().global);
+            surface_velocity_->load(u, patches);
+        });
     // Patches across the periodic x seam read the velocity from a copy whose x halo reaches
     // past them (the same values: the flow is periodic there).
     const VelocityField& uv = seam_velocity(u);

@@ -142,6 +142,7 @@ class BodySystem {
     /// Carries the membranes' Gs with their surfaces' velocities; one for all bodies (null:
     /// no body uses it).
     std::unique_ptr<SurfaceVelocity> surface_velocity_;
+    std::vector<std::size_t> surface_velocity_bodies_; ///< the bodies that compute with it
     std::vector<real> clipped_;
     /// Whether body i's patch may cross the periodic x seam (a moving body whose kernels read
     /// and write only the velocity and the force; the others keep the whole of x there).

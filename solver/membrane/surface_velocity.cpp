@@ -107,6 +107,47 @@ void SurfaceVelocity::load(const VelocityField& u) {
         wide_ = VelocityField("u_wide", dec.block(), dim, wide_halo_);
     for (int c = 0; c < dim; ++c)
         copy_rows(u[c], wide_[c], u[c].owned());
+    finish_load(u);
+}
+
+void SurfaceVelocity::load(const VelocityField& u, std::span<const Box> patches) {
+    const Decomposition& dec = halos_.decomposition();
+    const GlobalGrid& g = dec.grid();
+    const LocalBlock& block = dec.block();
+    const int dim = dec.dim();
+    if (wide_.dim != dim || wide_[0].data().empty())
+        wide_ = VelocityField("u_wide", dec.block(), dim, wide_halo_);
+    // compute() reads the source within its region (the patch and three layers) and at the
+    // stencils of foot points less than the reach from the patch's faces: all within the
+    // patch widened by the wide halo (reach + 3), one more layer for the high faces. A
+    // halo cell there is a neighbour's (or, across a periodic direction, this rank's)
+    // owned cell in the same widened box or one of its images a period away.
+    const int m = wide_halo_ + 1;
+    for (const Box& patch : patches) {
+        if (patch.empty()) continue;
+        Box widened = patch;
+        for (int d = 0; d < dim; ++d) {
+            widened.lo[d] -= m;
+            widened.hi[d] += m;
+        }
+        for (int a = -1; a <= 1; ++a)
+            for (int b = -1; b <= 1; ++b)
+                for (int e = -1; e <= 1; ++e) {
+                    const Int3 image{a * g.cells[0], dim > 1 ? b * g.cells[1] : 0,
+                                     dim > 2 ? e * g.cells[2] : 0};
+                    if ((dim < 2 && b != 0) || (dim < 3 && e != 0)) continue;
+                    const Box local =
+                        shifted(shifted(widened, image),
+                                {-block.offset[0], -block.offset[1], -block.offset[2]});
+                    for (int c = 0; c < dim; ++c)
+                        copy_rows(u[c], wide_[c], intersect(local, u[c].owned()));
+                }
+    }
+    finish_load(u);
+}
+
+void SurfaceVelocity::finish_load(const VelocityField& u) {
+    const int dim = halos_.decomposition().dim();
     halos_.fill(wide_); // collective
     // The layout of the result; compute() sets u on each body's own region of it.
     if (out_.dim != dim || out_[0].data().empty()) out_ = u;

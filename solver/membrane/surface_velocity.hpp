@@ -42,6 +42,7 @@
 #include "boundary/boundary.hpp"
 #include "grid/field.hpp"
 
+#include <span>
 #include <string>
 
 namespace efsi {
@@ -63,6 +64,11 @@ class SurfaceVelocity {
     /// Once per step, before compute(): u (halos filled) into the interpolation source.
     /// Collective.
     void load(const VelocityField& u);
+    /// The same, copying u only where compute() can read it for bodies whose patches have
+    /// the global boxes `patches` (each widened by the wide halo, and its periodic images);
+    /// the source keeps stale values elsewhere, which no later compute() for those bodies
+    /// reads. Collective; every rank passes the same boxes.
+    void load(const VelocityField& u, std::span<const Box> patches);
 
     /// u_e for `body` (smoothing width `eps_cells` cells): u carried off the surface along
     /// the normals near its band, u elsewhere on the body's patch and within three cells of
@@ -76,6 +82,9 @@ class SurfaceVelocity {
                                  real reach_cells = default_reach);
 
   private:
+    /// The rest of load(): the source's halos and the result's layout.
+    void finish_load(const VelocityField& u);
+
     const HaloFiller& halos_;
     real max_reach_ = default_reach;
     int wide_halo_ = 8;  ///< ceil(max_reach) + 3
